@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Run the test suite: creates .venv and installs everything it needs on first use.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup_venv.sh
+set +e
+.venv/bin/python -m pytest -n 2 -q "$@"
+rc=$?
+set -e
+# pytest exits 5 when no test was collected: that is a failure of this script's purpose.
+if [ "$rc" -eq 5 ]; then echo "no tests were collected" >&2; exit 1; fi
+exit "$rc"

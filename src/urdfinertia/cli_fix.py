@@ -1,0 +1,106 @@
+"""``urdf-inertia fix``: arguments and output of the main job."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from rich.console import Console
+
+from .atomic import atomic_write_bytes, write_in_place
+from .errors import OutputError, UrdfInertiaError
+from .fix import GEOMETRY_MODES, MASS_MODES, FixOptions, fix_file
+from .mesh_io import DEFAULT_MAX_FACES
+from .results_json import fix_result_dict
+from .table import print_fix_table
+
+
+def package_dir(text: str) -> tuple[str, Path]:
+    name, sep, path = text.partition("=")
+    if not sep or not name or not path:
+        raise argparse.ArgumentTypeError(f"expected NAME=PATH, got {text!r}")
+    return name, Path(path)
+
+
+def positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (value > 0 and value != float("inf")):
+        raise argparse.ArgumentTypeError(f"must be positive and finite: {text!r}")
+    return value
+
+
+def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
+    """Options shared by every command that computes from geometry."""
+    p.add_argument("--geometry", choices=GEOMETRY_MODES, default="auto",
+                   help="geometry to use: auto = collision when the link has any, "
+                        "else visual (default: auto)")
+    p.add_argument("--mass", choices=MASS_MODES, default="keep",
+                   help="keep: keep a link's existing positive mass and take CoM and tensor "
+                        "from the geometry; density: mass = density x volume (default: keep)")
+    p.add_argument("--density", type=positive_float, default=1000.0, metavar="KG_PER_M3",
+                   help="density for links without mass or with --mass density "
+                        "(kg/m^3, default 1000)")
+    p.add_argument("--package-dir", type=package_dir, action="append", default=[],
+                   metavar="NAME=PATH", help="where package://NAME/ points (repeatable)")
+    p.add_argument("--spec", type=Path, metavar="TOML",
+                   help="decomposition spec: parts with known mass, density or material")
+    p.add_argument("--max-faces", type=int, default=DEFAULT_MAX_FACES, metavar="N",
+                   help=f"refuse meshes with more faces (default {DEFAULT_MAX_FACES})")
+
+
+def options_from_args(args: argparse.Namespace) -> FixOptions:
+    spec = None
+    if getattr(args, "spec", None) is not None:
+        from .spec import load_spec
+
+        spec = load_spec(args.spec)
+    return FixOptions(
+        geometry=args.geometry,
+        mass=args.mass,
+        density=args.density,
+        package_dirs=dict(args.package_dir),
+        max_faces=args.max_faces,
+        spec=spec,
+    )
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("urdf", type=Path, help="the URDF to fix")
+    out = p.add_mutually_exclusive_group()
+    out.add_argument("-o", "--output", type=Path, help="write the fixed URDF here")
+    out.add_argument("--in-place", action="store_true",
+                     help="overwrite the input (a copy is kept as URDF.bak)")
+    add_common_geometry_arguments(p)
+    p.add_argument("--json", type=Path, metavar="PATH", help="write per-link results as JSON")
+    p.add_argument("-q", "--quiet", action="store_true", help="no table on the terminal")
+
+
+def run(args: argparse.Namespace) -> int:
+    options = options_from_args(args)
+    result = fix_file(args.urdf, options)
+    if args.output is not None and args.output.resolve() == args.urdf.resolve():
+        raise OutputError("output is the input file: use --in-place", file=args.output)
+    if args.json is not None:
+        text = json.dumps(fix_result_dict(result), indent=2)
+        atomic_write_bytes(args.json, text.encode())
+    if args.in_place:
+        if result.changed:
+            write_in_place(args.urdf, result.output)
+    elif args.output is not None:
+        atomic_write_bytes(args.output, result.output)
+    if not args.quiet:
+        console = Console(stderr=args.output is None and not args.in_place, width=160)
+        print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
+    if args.output is None and not args.in_place:
+        if args.quiet or args.json is not None:
+            return 0
+        sys.stdout.buffer.write(result.output)
+    return 0
+
+
+__all__ = ["add_arguments", "run", "UrdfInertiaError"]

@@ -1,0 +1,191 @@
+"""The mass-properties value type and the paper's frame algebra (eqs. 21-23, 43-46).
+
+Pure numpy. A :class:`MassProperties` is a rigid body's mass, its centre of mass and
+its inertia tensor about that centre of mass, all expressed in one frame F (the frame
+the object was built in or moved to). The inertia follows the URDF sign convention:
+off-diagonal entries are ``-integral(x y dm)`` (paper eq. 21/22).
+
+Moving a body between frames is explicit: :meth:`MassProperties.rotated` (``A I A^T``,
+eq. 23 applied inside eq. 22) and :meth:`MassProperties.translated`; bodies combine with
+``+`` or :func:`combine`, which applies the Huygens-Steiner theorem about the common
+centre of mass (eqs. 43-44).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+#: Relative tolerance for symmetry and sign checks of an inertia tensor.
+SYMMETRY_RTOL = 1e-9
+#: Eigenvalues may dip below zero by this fraction of the trace (round-off on thin bodies).
+DEFINITENESS_RTOL = 1e-9
+
+
+def point_mass_inertia(mass: float, offset: ArrayLike) -> np.ndarray:
+    """Inertia of a point mass at ``offset`` about the origin: ``m (|r|^2 E - r r^T)``.
+
+    This is the Huygens-Steiner term of eq. 43.
+    """
+    r = np.asarray(offset, dtype=np.float64)
+    return mass * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
+
+
+@dataclass(frozen=True, eq=False)
+class MassProperties:
+    """Mass, centre of mass and central inertia of a body, expressed in one frame F.
+
+    Attributes
+    ----------
+    mass : float
+        kg. Negative only for a cavity (see :meth:`negated`).
+    com : (3,) float
+        Centre of mass in F, m.
+    inertia : (3, 3) float
+        Inertia about ``com`` along F's axes, kg m^2, URDF sign convention
+        (``inertia[0, 1] == -integral(x y dm)``).
+    """
+
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+
+    def __post_init__(self) -> None:
+        mass = float(self.mass)
+        com = np.array(self.com, dtype=np.float64).reshape(-1)
+        inertia = np.array(self.inertia, dtype=np.float64)
+        if com.shape != (3,):
+            raise ValueError(f"com must have shape (3,), got {com.shape}")
+        if inertia.shape != (3, 3):
+            raise ValueError(f"inertia must have shape (3, 3), got {inertia.shape}")
+        if not (np.isfinite(mass) and np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
+            raise ValueError("mass properties must be finite")
+        scale = max(float(np.abs(inertia).max()), np.finfo(float).tiny)
+        if np.abs(inertia - inertia.T).max() > SYMMETRY_RTOL * scale:
+            raise ValueError("inertia tensor must be symmetric")
+        inertia = 0.5 * (inertia + inertia.T)
+        eig = np.linalg.eigvalsh(inertia)
+        slack = DEFINITENESS_RTOL * abs(float(np.trace(inertia)))
+        if mass >= 0 and eig[0] < -slack:
+            raise ValueError(f"inertia of a positive mass must be positive semi-definite: {eig}")
+        if mass < 0 and eig[-1] > slack:
+            raise ValueError(f"inertia of a cavity must be negative semi-definite: {eig}")
+        com.setflags(write=False)
+        inertia.setflags(write=False)
+        object.__setattr__(self, "mass", mass)
+        object.__setattr__(self, "com", com)
+        object.__setattr__(self, "inertia", inertia)
+
+    # --- named constructors -------------------------------------------------------
+    @classmethod
+    def zero(cls) -> MassProperties:
+        """The empty body (neutral element of ``+``)."""
+        return cls(0.0, np.zeros(3), np.zeros((3, 3)))
+
+    @classmethod
+    def from_inertia_about_point(
+        cls, mass: float, com: ArrayLike, inertia: ArrayLike, point: ArrayLike
+    ) -> MassProperties:
+        """Build from an inertia given about ``point`` (inverse of :meth:`about`)."""
+        com = np.asarray(com, dtype=np.float64)
+        shift = point_mass_inertia(mass, com - np.asarray(point, dtype=np.float64))
+        return cls(mass, com, np.asarray(inertia, dtype=np.float64) - shift)
+
+    # --- frame changes -------------------------------------------------------------
+    def rotated(self, rotation: ArrayLike) -> MassProperties:
+        """The body rotated by ``rotation`` about F's origin: ``c' = A c``, ``I' = A I A^T``.
+
+        Equivalently: the same body expressed in a parent frame whose axes relate to F's
+        by ``r_parent = A r_F`` (eqs. 23-26).
+        """
+        a = _rotation(rotation)
+        return MassProperties(self.mass, a @ self.com, a @ self.inertia @ a.T)
+
+    def translated(self, offset: ArrayLike) -> MassProperties:
+        """The body moved by ``offset``; its central inertia is unchanged."""
+        return MassProperties(self.mass, self.com + np.asarray(offset, dtype=np.float64),
+                              self.inertia)
+
+    def transformed(self, transform: ArrayLike) -> MassProperties:
+        """Apply a rigid (4, 4) transform: rotate about F's origin, then translate."""
+        t = np.asarray(transform, dtype=np.float64)
+        if t.shape != (4, 4):
+            raise ValueError(f"transform must have shape (4, 4), got {t.shape}")
+        return self.rotated(t[:3, :3]).translated(t[:3, 3])
+
+    def about(self, point: ArrayLike) -> np.ndarray:
+        """Inertia tensor about ``point`` along F's axes (Huygens-Steiner, eq. 43)."""
+        return self.inertia + point_mass_inertia(
+            self.mass, self.com - np.asarray(point, dtype=np.float64)
+        )
+
+    # --- combination ---------------------------------------------------------------
+    def __add__(self, other: MassProperties) -> MassProperties:
+        if not isinstance(other, MassProperties):
+            return NotImplemented
+        return combine([self, other])
+
+    def negated(self) -> MassProperties:
+        """The same shape as a cavity: negative mass and inertia (removed material)."""
+        return MassProperties(-self.mass, self.com, -self.inertia)
+
+    def with_mass(self, mass: float) -> MassProperties:
+        """The same geometry with its density scaled so that the mass is ``mass``."""
+        if self.mass == 0:
+            raise ValueError("cannot rescale a body of zero mass")
+        k = float(mass) / self.mass
+        return MassProperties(mass, self.com, self.inertia * k)
+
+    # --- analysis --------------------------------------------------------------------
+    def principal(self) -> tuple[np.ndarray, np.ndarray]:
+        """Principal moments (ascending) and axes (columns, right-handed)."""
+        moments, axes = np.linalg.eigh(self.inertia)
+        if np.linalg.det(axes) < 0:
+            axes[:, 2] *= -1
+        return moments, axes
+
+    def is_physical(self) -> bool:
+        """True when mass > 0 and the inertia is positive definite and meets A + B >= C."""
+        if self.mass <= 0:
+            return False
+        moments, _ = self.principal()
+        slack = DEFINITENESS_RTOL * float(np.sum(moments))
+        return bool(moments[0] > 0 and moments[0] + moments[1] >= moments[2] - slack)
+
+    def __repr__(self) -> str:
+        d = np.diag(self.inertia)
+        return (f"MassProperties(mass={self.mass:.6g}, com={np.round(self.com, 6).tolist()}, "
+                f"diag={np.array2string(d, precision=4)})")
+
+
+def combine(bodies: Iterable[MassProperties]) -> MassProperties:
+    """Sum of bodies about their common centre of mass (eqs. 3, 43-44).
+
+    Cavities (negative mass) subtract. The total mass must not be zero unless every
+    body is empty.
+    """
+    items = list(bodies)
+    if not items:
+        return MassProperties.zero()
+    masses = np.array([b.mass for b in items])
+    total = float(masses.sum())
+    if total == 0.0:
+        if np.all(masses == 0):
+            return MassProperties.zero()
+        raise ValueError("bodies sum to zero mass")
+    coms = np.array([b.com for b in items])
+    com = masses @ coms / total
+    inertia = sum(b.about(com) for b in items)
+    return MassProperties(total, com, inertia)
+
+
+def _rotation(rotation: ArrayLike) -> np.ndarray:
+    a = np.asarray(rotation, dtype=np.float64)
+    if a.shape != (3, 3):
+        raise ValueError(f"rotation must have shape (3, 3), got {a.shape}")
+    if not np.allclose(a @ a.T, np.eye(3), atol=1e-9) or np.linalg.det(a) < 0:
+        raise ValueError("rotation must be a proper orthonormal matrix")
+    return a

@@ -1,0 +1,88 @@
+"""Resolve mesh URIs of a URDF (relative, ``file://`` and ``package://``) to files."""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Mapping
+from pathlib import Path
+from urllib.parse import unquote, urlparse
+
+from .errors import MeshError
+
+_PACKAGE_NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
+
+
+def find_package(name: str, urdf_dir: Path, package_dirs: Mapping[str, Path]) -> Path | None:
+    """Folder of ROS package ``name``.
+
+    Order: ``package_dirs`` (``--package-dir NAME=PATH``), then ``ROS_PACKAGE_PATH`` and
+    ``AMENT_PREFIX_PATH`` (``share/NAME``), then the URDF's folder and its ancestors: a folder
+    named ``name``, or one whose ``package.xml`` declares ``name``.
+    """
+    if name in package_dirs:
+        return Path(package_dirs[name])
+    for root in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
+        if root:
+            for cand in (Path(root) / name, Path(root)):
+                if cand.is_dir() and _is_package(cand, name):
+                    return cand
+    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+        if prefix and (Path(prefix) / "share" / name).is_dir():
+            return Path(prefix) / "share" / name
+    folder = urdf_dir.resolve()
+    for cand in (folder, *folder.parents):
+        if cand.name == name or _is_package(cand, name):
+            return cand
+        if (cand / name).is_dir():
+            return cand / name
+    return None
+
+
+def _is_package(folder: Path, name: str) -> bool:
+    if folder.name == name:
+        return True
+    manifest = folder / "package.xml"
+    if not manifest.is_file():
+        return False
+    try:
+        match = _PACKAGE_NAME.search(manifest.read_text(encoding="utf-8", errors="replace"))
+    except OSError:
+        return False
+    return bool(match and match.group(1) == name)
+
+
+def resolve_mesh_path(
+    uri: str, urdf_dir: Path, package_dirs: Mapping[str, Path] | None = None
+) -> Path:
+    """The file a ``<mesh filename="...">`` refers to.
+
+    Raises
+    ------
+    MeshError
+        The URI uses a scheme other than ``package://`` or ``file://`` (no URLs are
+        fetched), names a package that cannot be found, or the file does not exist.
+    """
+    package_dirs = package_dirs or {}
+    parsed = urlparse(uri)
+    scheme = parsed.scheme.lower()
+    if scheme == "package":
+        name = parsed.netloc
+        root = find_package(name, urdf_dir, package_dirs)
+        if root is None:
+            raise MeshError(
+                f"cannot resolve package '{name}' in {uri!r}: pass --package-dir {name}=PATH "
+                "or set ROS_PACKAGE_PATH"
+            )
+        path = root / unquote(parsed.path).lstrip("/")
+    elif scheme == "file":
+        path = Path(unquote(parsed.path))
+    elif scheme == "" or (len(scheme) == 1 and os.name == "nt"):
+        path = Path(uri)
+        if not path.is_absolute():
+            path = urdf_dir / path
+    else:
+        raise MeshError(f"mesh URI {uri!r} uses scheme '{scheme}': only files are read")
+    if not path.is_file():
+        raise MeshError(f"mesh file not found: {uri!r} (looked at {path})")
+    return path

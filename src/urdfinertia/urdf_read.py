@@ -1,0 +1,224 @@
+"""Read a URDF with a hardened lxml parser into :mod:`urdf_model` objects.
+
+Entities are never resolved, no DTD is loaded and nothing is fetched from the network;
+documents that declare entities are refused outright (XXE, "billion laughs").
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+from lxml import etree
+
+from .errors import UrdfError
+from .urdf_model import (
+    Box,
+    Capsule,
+    Cylinder,
+    GeometryRef,
+    Inertial,
+    Joint,
+    Link,
+    Mesh,
+    Origin,
+    Robot,
+    Shape,
+    Sphere,
+)
+
+#: Largest URDF accepted, bytes (the biggest real ones are a few MB).
+MAX_URDF_BYTES = 64 * 1024 * 1024
+_ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
+
+
+def make_parser() -> etree.XMLParser:
+    """The only XML parser this package uses: no entities, no DTD, no network."""
+    return etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        huge_tree=False,
+        remove_comments=False,
+        remove_pis=False,
+        strip_cdata=False,
+    )
+
+
+def parse_xml(data: bytes, file: str | Path) -> etree._Element:
+    """Parse URDF bytes into an lxml root element, refusing hostile constructs."""
+    if len(data) > MAX_URDF_BYTES:
+        raise UrdfError(f"file is larger than {MAX_URDF_BYTES} bytes", file=file)
+    if _ENTITY_DECL.search(data):
+        raise UrdfError("XML entity declarations are not allowed (possible XXE or entity bomb)",
+                        file=file)
+    try:
+        root = etree.fromstring(data, parser=make_parser())
+    except etree.XMLSyntaxError as exc:
+        line = exc.lineno if getattr(exc, "lineno", None) else None
+        msg = getattr(exc, "msg", None) or str(exc)
+        raise UrdfError(f"malformed XML: {msg}", file=file, line=line) from None
+    if not isinstance(root.tag, str) or etree.QName(root).localname != "robot":
+        raise UrdfError(f"root element is <{root.tag}>, expected <robot>", file=file,
+                        line=root.sourceline)
+    return root
+
+
+def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
+    """Read ``path`` and return the robot model and the file's original bytes."""
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise UrdfError(f"cannot read: {exc.strerror or exc}", file=path) from None
+    return robot_from_bytes(data, path), data
+
+
+def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
+    root = parse_xml(data, path)
+    return robot_from_element(root, Path(path))
+
+
+def robot_from_element(root: etree._Element, path: Path) -> Robot:
+    links: list[Link] = []
+    seen: set[str] = set()
+    for el in _children(root, "link"):
+        link = _link(el, path)
+        if link.name in seen:
+            raise UrdfError(f"duplicate link name '{link.name}'", file=path, line=el.sourceline)
+        seen.add(link.name)
+        links.append(link)
+    joints = tuple(_joint(el, path) for el in _children(root, "joint"))
+    return Robot(name=root.get("name", ""), links=tuple(links), joints=joints, path=path)
+
+
+def _children(el: etree._Element, tag: str) -> list[etree._Element]:
+    return [c for c in el if isinstance(c.tag, str) and c.tag == tag]
+
+
+class _Ctx:
+    """Where we are, for error messages."""
+
+    def __init__(self, path: Path, link: str | None) -> None:
+        self.path = path
+        self.link = link
+
+    def error(self, cause: str, el: etree._Element) -> UrdfError:
+        return UrdfError(cause, file=self.path, line=el.sourceline, link=self.link)
+
+    def floats(self, el: etree._Element, attr: str, n: int, default: str | None = None,
+               ) -> tuple[float, ...]:
+        text = el.get(attr, default)
+        if text is None:
+            raise self.error(f"<{el.tag}> is missing attribute '{attr}'", el)
+        parts = text.split()
+        if len(parts) != n:
+            raise self.error(f"<{el.tag} {attr}=\"{text}\"> needs {n} numbers", el)
+        try:
+            values = tuple(float(p) for p in parts)
+        except ValueError:
+            raise self.error(f"<{el.tag} {attr}=\"{text}\"> is not a number", el) from None
+        if not all(math.isfinite(v) for v in values):
+            raise self.error(f"<{el.tag} {attr}=\"{text}\"> is not finite", el)
+        return values
+
+    def positive(self, el: etree._Element, attr: str, n: int = 1) -> tuple[float, ...]:
+        values = self.floats(el, attr, n)
+        if not all(v > 0 for v in values):
+            raise self.error(f"<{el.tag} {attr}=\"{el.get(attr)}\"> must be positive", el)
+        return values
+
+
+def _origin(parent: etree._Element, ctx: _Ctx) -> Origin:
+    found = _children(parent, "origin")
+    if not found:
+        return Origin()
+    el = found[0]
+    return Origin(ctx.floats(el, "xyz", 3, "0 0 0"), ctx.floats(el, "rpy", 3, "0 0 0"))  # type: ignore[arg-type]
+
+
+def _shape(geometry: etree._Element, ctx: _Ctx) -> Shape:
+    kids = [c for c in geometry if isinstance(c.tag, str)]
+    if len(kids) != 1:
+        raise ctx.error("<geometry> must hold exactly one shape", geometry)
+    el = kids[0]
+    if el.tag == "box":
+        return Box(ctx.positive(el, "size", 3))  # type: ignore[arg-type]
+    if el.tag == "cylinder":
+        return Cylinder(ctx.positive(el, "radius")[0], ctx.positive(el, "length")[0])
+    if el.tag == "sphere":
+        return Sphere(ctx.positive(el, "radius")[0])
+    if el.tag == "capsule":
+        radius = ctx.positive(el, "radius")[0]
+        length = ctx.floats(el, "length", 1)[0]
+        if length < 0:
+            raise ctx.error(f"<capsule length=\"{el.get('length')}\"> must be >= 0", el)
+        return Capsule(radius, length)
+    if el.tag == "mesh":
+        filename = el.get("filename")
+        if not filename:
+            raise ctx.error("<mesh> is missing attribute 'filename'", el)
+        scale = ctx.floats(el, "scale", 3, "1 1 1")
+        if any(s == 0 for s in scale):
+            raise ctx.error(f"<mesh scale=\"{el.get('scale')}\"> has a zero component", el)
+        return Mesh(filename, scale)  # type: ignore[arg-type]
+    raise ctx.error(f"unsupported geometry <{el.tag}>", el)
+
+
+def _geometry_refs(link_el: etree._Element, role: str, ctx: _Ctx) -> tuple[GeometryRef, ...]:
+    refs = []
+    for index, el in enumerate(_children(link_el, role)):
+        geo = _children(el, "geometry")
+        if not geo:
+            raise ctx.error(f"<{role}> has no <geometry>", el)
+        refs.append(GeometryRef(role, index, el.get("name"), _origin(el, ctx),
+                                _shape(geo[0], ctx), el.sourceline))
+    return tuple(refs)
+
+
+def _inertial(link_el: etree._Element, ctx: _Ctx) -> Inertial | None:
+    found = _children(link_el, "inertial")
+    if not found:
+        return None
+    el = found[0]
+    mass_el = _children(el, "mass")
+    inertia_el = _children(el, "inertia")
+    if not mass_el:
+        raise ctx.error("<inertial> has no <mass>", el)
+    mass = ctx.floats(mass_el[0], "value", 1)[0]
+    if inertia_el:
+        values = [ctx.floats(inertia_el[0], k, 1, "0")[0]
+                  for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
+    else:
+        values = [0.0] * 6
+    return Inertial(_origin(el, ctx), mass, *values, line=el.sourceline)
+
+
+def _link(el: etree._Element, path: Path) -> Link:
+    name = el.get("name")
+    if not name:
+        raise UrdfError("<link> without a name", file=path, line=el.sourceline)
+    ctx = _Ctx(path, name)
+    return Link(
+        name=name,
+        collisions=_geometry_refs(el, "collision", ctx),
+        visuals=_geometry_refs(el, "visual", ctx),
+        inertial=_inertial(el, ctx),
+        line=el.sourceline,
+    )
+
+
+def _joint(el: etree._Element, path: Path) -> Joint:
+    ctx = _Ctx(path, None)
+    parent = _children(el, "parent")
+    child = _children(el, "child")
+    return Joint(
+        name=el.get("name", ""),
+        type=el.get("type", ""),
+        parent=parent[0].get("link", "") if parent else "",
+        child=child[0].get("link", "") if child else "",
+        origin=_origin(el, ctx),
+        line=el.sourceline,
+    )

@@ -1,0 +1,39 @@
+"""Shared fixtures: paths to shipped robots and to the example-robot-data collection."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def example_robot_data_dir() -> Path | None:
+    """The ``share/example-robot-data`` folder of the installed PyPI package, if any."""
+    import sys
+
+    for base in map(Path, sys.path):
+        cand = base / "cmeel.prefix" / "share" / "example-robot-data"
+        if cand.is_dir():
+            return cand
+    return None
+
+
+@pytest.fixture(scope="session")
+def erd_dir() -> Path:
+    found = example_robot_data_dir()
+    if found is None:
+        pytest.fail("example-robot-data is a dev dependency and must be installed")
+    return found
+
+
+@pytest.fixture
+def rng() -> np.random.Generator:
+    return np.random.default_rng(20061124)  # seeded: failures must reproduce
+
+
+@pytest.fixture(scope="session")
+def robots_dir() -> Path:
+    return ROOT / "robots"
