@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from . import primitives
-from .errors import UrdfInertiaError
+from .errors import MeshError, UrdfInertiaError
 from .massprops import MassProperties
 from .meshlib import MeshLibrary
 from .urdf_model import Box, Capsule, Cylinder, GeometryRef, Mesh, Shape, Sphere
@@ -83,7 +83,12 @@ def shape_solids(shape: Shape, meshes: MeshLibrary, urdf_dir: Path,
         mirrored = float(np.prod(shape.scale)) < 0
         for solid in found.solids:
             notes = solid.notes + found.notes + (("mirrored by scale",) if mirrored else ())
-            out.append((solid.mass_properties(1.0), solid.method, notes))
+            try:
+                unit = solid.mass_properties(1.0)
+            except ValueError as exc:
+                raise MeshError(f"mesh {shape.filename!r} gives no valid solid ({solid.method}): "
+                                f"{exc}") from None
+            out.append((unit, solid.method, notes))
         return out
     raise TypeError(f"unknown shape {shape!r}")
 

@@ -67,14 +67,16 @@ def resolve_mesh_path(
     parsed = urlparse(uri)
     scheme = parsed.scheme.lower()
     if scheme == "package":
-        name = parsed.netloc
+        name, rel = parsed.netloc, unquote(parsed.path).lstrip("/")
+        if not name:  # "package:///NAME/..." occurs in the wild (example-robot-data)
+            name, _, rel = rel.partition("/")
         root = find_package(name, urdf_dir, package_dirs)
         if root is None:
             raise MeshError(
                 f"cannot resolve package '{name}' in {uri!r}: pass --package-dir {name}=PATH "
                 "or set ROS_PACKAGE_PATH"
             )
-        path = root / unquote(parsed.path).lstrip("/")
+        path = root / rel
     elif scheme == "file":
         path = Path(unquote(parsed.path))
     elif scheme == "" or (len(scheme) == 1 and os.name == "nt"):
