@@ -101,3 +101,12 @@ def test_real_robot_round_trip(erd_dir):
     result = fix_file(src, FixOptions())
     assert result.changed
     assert_only_inertials_differ(src.read_bytes(), result.output)
+
+
+def test_self_closing_link_is_expanded():
+    body = primitives.sphere(0.1, 1000.0)
+    doc = b'<robot name="r">\n  <link name="l" />\n  <link name="m"/>\n</robot>\n'
+    out = patch_inertials(doc, {"l": (body, 0.1)})
+    assert out.startswith(b'<robot name="r">\n  <link name="l" >\n    <inertial>\n      <origin')
+    assert out.endswith(b'    </inertial>\n  </link>\n  <link name="m"/>\n</robot>\n')
+    assert robot_from_bytes(out, "x.urdf").link("l").inertial.mass == body.mass

@@ -80,6 +80,10 @@ def assemble(parts: Sequence[Part], *, density: float, pinned_mass: float | None
     else:
         free_density = density
         source = f"density {density:g} kg/m^3"
+        if not has_free:
+            source = "known part masses/densities"
+        elif len(parts) > sum(p.mass is None and p.density is None for p in parts):
+            source += " for parts without a known mass"
         if pinned_mass is not None and abs(known - pinned_mass) > PINNED_MASS_RTOL * pinned_mass:
             raise UrdfInertiaError(f"part masses sum to {known:.6g} kg but the link mass is "
                                    f"{pinned_reason} at {pinned_mass:.6g} kg")

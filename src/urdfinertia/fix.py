@@ -127,7 +127,9 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir:
         result = assemble(parts, density=options.density, pinned_mass=pinned,
                           pinned_reason=reason)
     except UrdfInertiaError as exc:
-        raise exc.with_context(link=link.name, line=link.line)
+        if link_spec is not None:  # the spec, not the URDF, made these parts
+            raise exc.with_context(file=link_spec.path, link=link.name) from None
+        raise exc.with_context(link=link.name, line=link.line) from None
     warnings = _warnings(parts, result)
     return LinkResult(link.name, "recomputed", role, result, link.inertial, warnings)
 

@@ -198,10 +198,17 @@ def patch_inertials(data: bytes, new: Mapping[str, tuple[MassProperties, float]]
     edits: list[tuple[int, int, bytes]] = []
     for name, (props, size) in new.items():
         span = spans.get(name)
-        if span is None or span.self_closing:
+        if span is None:
             raise UrdfError(f"cannot locate <link name='{name}'> in the text", link=name)
         step = _step(data, span)
-        if span.inertial is not None:
+        if span.self_closing:
+            # <link name="x"/> becomes <link name="x"> + inertial + </link>
+            slash = data.rfind(b"/", 0, span.start_tag_end)
+            indent = span.link_indent + step
+            text = (b">" + newline + indent + inertial_xml(props, size, indent, step, newline)
+                    + newline + span.link_indent + b"</link>")
+            edits.append((slash, span.start_tag_end, text))
+        elif span.inertial is not None:
             start, end = span.inertial
             indent = _line_indent(data, start)
             edits.append((start, end, inertial_xml(props, size, indent, step, newline)))

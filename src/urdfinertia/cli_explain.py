@@ -1,0 +1,37 @@
+"""``urdf-inertia explain``: one link's per-element and per-part breakdown (paper sec. 5)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from rich.console import Console
+
+from .cli_fix import add_common_geometry_arguments, options_from_args
+from .explain import breakdown_dict, explain_link
+from .table import breakdown_table
+from .urdf_read import read_urdf
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("urdf", type=Path, help="the URDF")
+    p.add_argument("--link", required=True, metavar="NAME", help="the link to break down")
+    add_common_geometry_arguments(p)
+    p.add_argument("--json", action="store_true",
+                   help="print the breakdown as JSON on stdout instead of a table")
+
+
+def run(args: argparse.Namespace) -> int:
+    options = options_from_args(args)
+    robot, _ = read_urdf(args.urdf)
+    breakdown = explain_link(robot, args.link, options)
+    if args.json:
+        sys.stdout.write(json.dumps(breakdown_dict(breakdown), indent=2) + "\n")
+        return 0
+    console = Console(width=160)
+    console.print(breakdown_table(breakdown))
+    for warning in breakdown.warnings:
+        console.print(f"warning: {warning}")
+    return 0
