@@ -37,3 +37,11 @@ def rng() -> np.random.Generator:
 @pytest.fixture(scope="session")
 def robots_dir() -> Path:
     return ROOT / "robots"
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _private_cache_dir(tmp_path_factory):
+    """No test touches the user's real mesh cache: it lives in a temporary folder."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("URDFINERTIA_CACHE_DIR", str(tmp_path_factory.mktemp("urdfinertia-cache")))
+        yield

@@ -110,3 +110,12 @@ def test_self_closing_link_is_expanded():
     assert out.startswith(b'<robot name="r">\n  <link name="l" >\n    <inertial>\n      <origin')
     assert out.endswith(b'    </inertial>\n  </link>\n  <link name="m"/>\n</robot>\n')
     assert robot_from_bytes(out, "x.urdf").link("l").inertial.mass == body.mass
+
+
+def test_character_references_in_link_names():
+    body = primitives.sphere(0.1, 1000.0)
+    doc = b'<robot name="r">\n  <link name="&#65;b&#x43;&amp;"/>\n</robot>\n'
+    name = robot_from_bytes(doc, "x.urdf").links[0].name
+    assert name == "AbC&"
+    out = patch_inertials(doc, {name: (body, 0.1)})
+    assert robot_from_bytes(out, "x.urdf").link(name).inertial.mass == body.mass

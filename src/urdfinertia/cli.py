@@ -1,8 +1,13 @@
 """``urdf-inertia`` command line: parses arguments and dispatches to a subcommand module.
 
 Each subcommand lives in ``cli_<name>.py`` with ``add_arguments(parser)`` and
-``run(args) -> int``. Any :class:`UrdfInertiaError` becomes one line on stderr and exit
-code 2 (``--debug`` shows the traceback).
+``run(args) -> int``.
+
+Exit codes: 0 success; 1 a command's findings (``check`` found problems); 2 a user-facing
+failure: any :class:`UrdfInertiaError`, a bad command line, running out of memory, an
+output pipe closed early, one line on stderr; 3 an internal error (a bug: any other
+exception), also one line, naming the exception type and pointing at ``--debug``;
+130 interrupted. ``--debug`` adds the traceback before the line.
 """
 
 from __future__ import annotations
@@ -11,6 +16,7 @@ import argparse
 import importlib
 import sys
 import traceback
+import warnings
 from collections.abc import Sequence
 
 from . import __version__
@@ -38,7 +44,7 @@ def _available() -> dict[str, object]:
 
 
 def build_parser() -> tuple[argparse.ArgumentParser, dict[str, object]]:
-    parser = argparse.ArgumentParser(
+    parser = OneLineArgumentParser(
         prog="urdf-inertia",
         description="Make the <inertial> tags of URDF robot descriptions right.",
     )
@@ -54,22 +60,70 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, object]]:
     return parser, mods
 
 
+#: Exit code of a user-facing failure (bad input, options or environment).
+EXIT_ERROR = 2
+#: Exit code of an internal error: an exception this package did not expect (a bug).
+EXIT_INTERNAL = 3
+
+
+class OneLineArgumentParser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line (``--help`` still shows the usage)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(EXIT_ERROR, f"urdf-inertia: error: {self.prog}: {message} (see --help)\n")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser, mods = build_parser()
     args = parser.parse_args(argv)
     if not args.command:
         parser.print_help(sys.stderr)
-        return 2
+        return EXIT_ERROR
     try:
-        return int(mods[args.command].run(args))  # type: ignore[attr-defined]
+        with warnings.catch_warnings():
+            if not args.debug:
+                # numpy's overflow/invalid-value warnings would add lines to stderr; the
+                # results they concern are checked (finite, physical) where they are made
+                warnings.simplefilter("ignore", RuntimeWarning)
+            return int(mods[args.command].run(args))  # type: ignore[attr-defined]
     except UrdfInertiaError as exc:
-        if args.debug:
-            traceback.print_exc()
-        print(f"urdf-inertia: error: {exc}", file=sys.stderr)
-        return 2
+        return _fail(args, f"error: {_one_line(str(exc))}", EXIT_ERROR)
+    except MemoryError:
+        return _fail(args, "error: out of memory (a smaller --max-faces refuses large meshes "
+                     "before reading them)", EXIT_ERROR)
+    except BrokenPipeError:
+        _silence_stdout()
+        return _fail(args, "error: output pipe closed before the output was written",
+                     EXIT_ERROR)
     except KeyboardInterrupt:
         print("urdf-inertia: interrupted", file=sys.stderr)
         return 130
+    except Exception as exc:  # any other exception is a bug: say so in one line
+        return _fail(args, f"internal error: {type(exc).__name__}: {_one_line(str(exc))} "
+                     "(this is a bug; rerun with --debug for the traceback)", EXIT_INTERNAL)
+
+
+def _fail(args: argparse.Namespace, message: str, code: int) -> int:
+    if getattr(args, "debug", False):
+        traceback.print_exc()
+    print(f"urdf-inertia: {message}", file=sys.stderr)
+    return code
+
+
+def _one_line(text: str) -> str:
+    """Messages may quote user data: newlines would break the one-line contract."""
+    return " ".join(text.split()) if ("\n" in text or "\r" in text) else text
+
+
+def _silence_stdout() -> None:
+    """After EPIPE, point stdout at /dev/null so the interpreter's final flush is quiet."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -124,8 +124,11 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir:
         pinned = existing_mass(link) if options.mass == "keep" else None
         reason = "kept"
     try:
-        result = assemble(parts, density=options.density, pinned_mass=pinned,
-                          pinned_reason=reason)
+        try:
+            result = assemble(parts, density=options.density, pinned_mass=pinned,
+                              pinned_reason=reason)
+        except ValueError as exc:  # e.g. an overflow from an absurd density or mass
+            raise UrdfInertiaError(f"mass properties cannot be computed: {exc}") from None
     except UrdfInertiaError as exc:
         if link_spec is not None:  # the spec, not the URDF, made these parts
             raise exc.with_context(file=link_spec.path, link=link.name) from None
@@ -146,7 +149,14 @@ def _warnings(parts: list[Part], result: Assembly) -> tuple[str, ...]:
         if not lo <= rho <= hi:
             out.append(f"implied density {rho:.3g} kg/m^3 is outside {lo:g}..{hi:g} "
                        "(unit slip or placeholder mass?)")
-    extent = max(float(np.linalg.norm(p.pose[:3, 3])) for p in parts) + volume ** (1 / 3)
+    # distance of each part's CoM from the link origin plus its radius of gyration: a thin
+    # hollow part in millimetres has a small volume but a large gyration radius
+    extent = max(
+        float(np.linalg.norm(p.pose[:3, :3] @ p.unit.com + p.pose[:3, 3]))
+        + float(np.sqrt(max(np.trace(p.unit.inertia), 0.0) / (2.0 * abs(p.unit.mass))))
+        if p.unit.mass else float(np.linalg.norm(p.pose[:3, 3]))
+        for p in parts
+    )
     if extent > 10.0:
         out.append(f"geometry spans {extent:.3g} m: millimetre mesh without scale?")
     return tuple(dict.fromkeys(out))

@@ -7,16 +7,35 @@ is honoured, as RViz and Gazebo do.
 
 from __future__ import annotations
 
+import re
+import stat
+import struct
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 
 from .errors import MeshError
+from .xml_safety import hostile_xml_stream_cause
 
 SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off")
-#: Largest mesh accepted by default (faces); ``--max-faces`` raises it.
-DEFAULT_MAX_FACES = 5_000_000
+#: Largest mesh accepted by default (faces); ``--max-faces`` raises it. 18 times the
+#: largest mesh of the example-robot-data collection (56k faces).
+DEFAULT_MAX_FACES = 1_000_000
+#: File size allowed per face of the limit: an ASCII STL takes about 300 bytes a face,
+#: every other supported format less. Files above ``max_mesh_bytes`` are not opened.
+BYTES_PER_FACE = 400
+#: Size allowed whatever the face limit (headers, materials, small meshes).
+BASE_MESH_BYTES = 1 << 20
+_CHUNK = 1 << 20
+#: Largest vertex coordinate accepted, m (after unit scaling): fifth powers stay finite.
+MAX_COORDINATE = 1e9
+
+
+def max_mesh_bytes(max_faces: int) -> int:
+    """Largest mesh file read under a face limit of ``max_faces``, bytes."""
+    return BASE_MESH_BYTES + BYTES_PER_FACE * max(int(max_faces), 0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -28,34 +47,55 @@ class TriangleMesh:
 
 
 def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleMesh:
-    """Load ``path`` without any repair or vertex merging.
+    """Load ``path`` without any repair or vertex merging, within bounded memory.
+
+    Before any parser runs, the file's size is checked against :func:`max_mesh_bytes` and
+    its face count, where the format declares or cheaply reveals it, against
+    ``max_faces`` (:func:`declared_faces`, a streaming scan). COLLADA files are refused
+    when they declare XML entities or an external DTD. After loading, the triangle count
+    (with every scene instance expanded) is checked again before the arrays are built.
 
     Raises
     ------
     MeshError
-        Unsupported format, unreadable or corrupt file, no triangles, or more than
-        ``max_faces`` faces.
+        Unsupported format, unreadable or corrupt file, no triangles, too large a file or
+        more than ``max_faces`` faces.
     """
-    import trimesh
-
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in SUPPORTED_SUFFIXES:
         raise MeshError(f"unsupported mesh format '{suffix}' ({path}); "
                         f"supported: {', '.join(SUPPORTED_SUFFIXES)}")
     try:
-        loaded = trimesh.load(str(path), force="scene", process=False,
-                              file_type=suffix.lstrip("."))
+        info = path.stat()
+        if not stat.S_ISREG(info.st_mode):
+            raise MeshError(f"mesh {path} is not a regular file")
+        size = info.st_size
+        limit = max_mesh_bytes(max_faces)
+        if size > limit:
+            raise MeshError(f"mesh {path} is {size} bytes, more than the limit {limit} bytes "
+                            f"({BYTES_PER_FACE} bytes per face of --max-faces {max_faces}; "
+                            "raise it with --max-faces)")
+        with open(path, "rb") as stream:
+            declared = declared_faces(stream, suffix, size)
+            if declared is not None and declared > max_faces:
+                raise _too_many(path, declared, max_faces)
+            if suffix == ".dae":
+                stream.seek(0)
+                cause = _collada_cause(stream)
+                if cause:
+                    raise MeshError(f"cannot read mesh {path}: {cause}")
+    except OSError as exc:
+        raise MeshError(f"cannot read mesh {path}: {exc.strerror or exc}") from None
+    loaded = _load_scene(path, suffix)
+    try:
+        vertices, faces = _flatten_scene(loaded, path, max_faces)
     except MeshError:
         raise
-    except Exception as exc:  # trimesh raises many types for corrupt bytes
+    except Exception as exc:  # a scene graph trimesh built from corrupt data
         raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
-    vertices, faces = _flatten_scene(loaded)
     if len(faces) == 0:
         raise MeshError(f"mesh {path} holds no triangles")
-    if len(faces) > max_faces:
-        raise MeshError(f"mesh {path} has {len(faces)} faces, more than the limit "
-                        f"{max_faces} (raise it with --max-faces)")
     unit = loaded.metadata.get("unit_meter") if hasattr(loaded, "metadata") else None
     if suffix == ".dae":
         unit = _collada_unit(path)
@@ -63,23 +103,139 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
         vertices = vertices * unit
     if not np.all(np.isfinite(vertices)):
         raise MeshError(f"mesh {path} has non-finite vertex coordinates")
+    if np.abs(vertices).max() > MAX_COORDINATE:
+        raise MeshError(f"mesh {path} has vertex coordinates beyond {MAX_COORDINATE:g} m")
     return TriangleMesh(vertices, faces)
 
 
-def _flatten_scene(scene) -> tuple[np.ndarray, np.ndarray]:
+def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
+    return MeshError(f"mesh {path} has {faces} faces, more than the limit "
+                     f"{max_faces} (raise it with --max-faces)")
+
+
+def _load_scene(path: Path, suffix: str):
     import trimesh
 
+    kwargs = {"skip_materials": True} if suffix == ".obj" else {}
+    try:
+        # trimesh's default resolver reads only files under the mesh's folder and
+        # allow_remote=False keeps it off the network.
+        return trimesh.load(str(path), force="scene", process=False,
+                            file_type=suffix.lstrip("."), allow_remote=False, **kwargs)
+    except MeshError:
+        raise
+    except MemoryError:
+        raise MeshError(f"cannot read mesh {path}: out of memory (lower --max-faces)"
+                        ) from None
+    except RecursionError:
+        raise MeshError(f"cannot read mesh {path}: nested too deeply") from None
+    except Exception as exc:  # trimesh raises many types for corrupt bytes
+        raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
+
+
+# --- face counts before parsing ---------------------------------------------------------
+
+def declared_faces(stream: BinaryIO, suffix: str, size: int) -> int | None:
+    """Triangles the file holds, found without parsing it, or None when unknown.
+
+    Binary STL, PLY and OFF headers state the count; ASCII STL, OBJ and COLLADA are
+    scanned in chunks of ``_CHUNK`` bytes (a lower bound for polygons of more than three
+    corners, checked again after loading). glTF/GLB counts are taken after loading.
+    """
+    head = stream.read(4096)
+    stream.seek(0)
+    if suffix == ".stl":
+        if len(head) >= 84:
+            count = int(struct.unpack("<I", head[80:84])[0])
+            if size == 84 + 50 * count:
+                return count
+        return _count_pattern(stream, re.compile(rb"endfacet", re.IGNORECASE), 16)
+    if suffix == ".obj":
+        first = 1 if re.match(rb"f[ \t]", head) else 0
+        return first + _count_pattern(stream, re.compile(rb"\nf[ \t]"), 8)
+    if suffix == ".ply":
+        match = re.search(rb"\belement\s+face\s+([0-9]{1,19})\b", head)
+        return int(match.group(1)) if match else None
+    if suffix == ".off":
+        text = re.sub(rb"#[^\n]*", b"", head)
+        tokens = text.split()
+        if tokens and tokens[0].upper().endswith(b"OFF"):
+            tokens = tokens[1:]
+        if len(tokens) >= 2 and tokens[1].isdigit():
+            return int(tokens[1])
+        return None
+    if suffix == ".dae":
+        pattern = re.compile(
+            rb"<(?:triangles|polylist|polygons|trifans|tristrips)\b[^>]{0,400}?"
+            rb"\bcount\s*=\s*[\"']([0-9]{1,19})[\"']")
+        return _sum_pattern(stream, pattern, 512)
+    return None
+
+
+def _count_pattern(stream: BinaryIO, pattern: re.Pattern[bytes], width: int) -> int:
+    return _sum_pattern(stream, pattern, width, count_only=True)
+
+
+def _sum_pattern(stream: BinaryIO, pattern: re.Pattern[bytes], width: int,
+                 count_only: bool = False) -> int:
+    """Sum of group 1 (or number) of the matches of ``pattern`` over a stream.
+
+    Matches are at most ``width`` bytes long; a match is taken only when it starts
+    before the last ``width`` bytes of the window, the rest is carried over.
+    """
+    total = 0
+    carry = b""
+    stream.seek(0)
+    while True:
+        chunk = stream.read(_CHUNK)
+        window = carry + chunk
+        cut = len(window) if not chunk else max(len(window) - width, 0)
+        for match in pattern.finditer(window):
+            if match.start() >= cut:
+                break
+            total += 1 if count_only else int(match.group(1))
+        if not chunk:
+            return total
+        carry = window[cut:]
+
+
+def _collada_cause(stream: BinaryIO) -> str | None:
+    head = stream.read(4)
+    stream.seek(0)
+    if head.startswith(b"PK"):
+        return "zipped COLLADA is not supported"
+    return hostile_xml_stream_cause(stream, _CHUNK)
+
+
+def _flatten_scene(scene, path: Path, max_faces: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every instance of every geometry in the scene, in the scene's root frame.
+
+    The total is checked against ``max_faces`` before anything is copied: a small file
+    can instance one large mesh many times.
+    """
+    import trimesh
+
+    instances = []
+    for node in scene.graph.nodes_geometry:
+        transform, name = scene.graph[node]
+        geom = scene.geometry.get(name)
+        if not isinstance(geom, trimesh.Trimesh) or len(geom.faces) == 0:
+            continue
+        instances.append((np.asarray(transform, dtype=np.float64), geom))
+    total = sum(len(geom.faces) for _, geom in instances)
+    if total > max_faces:
+        raise _too_many(path, total, max_faces)
     verts: list[np.ndarray] = []
     faces: list[np.ndarray] = []
     offset = 0
-    for node in scene.graph.nodes_geometry:
-        transform, name = scene.graph[node]
-        geom = scene.geometry[name]
-        if not isinstance(geom, trimesh.Trimesh) or len(geom.faces) == 0:
-            continue
+    for transform, geom in instances:
         v = np.asarray(geom.vertices, dtype=np.float64)
-        v = v @ transform[:3, :3].T + transform[:3, 3]
         f = np.asarray(geom.faces, dtype=np.int64)
+        if f.ndim != 2 or f.shape[1] != 3 or v.ndim != 2 or v.shape[1] != 3:
+            raise MeshError(f"mesh {path} has malformed triangle arrays")
+        if f.min() < 0 or f.max() >= len(v):
+            raise MeshError(f"mesh {path} has faces that index missing vertices")
+        v = v @ transform[:3, :3].T + transform[:3, 3]
         if np.linalg.det(transform[:3, :3]) < 0:
             f = f[:, ::-1]  # a mirroring node transform turns the faces inside out
         verts.append(v)
@@ -91,9 +247,8 @@ def _flatten_scene(scene) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _collada_unit(path: Path) -> float | None:
-    import re
-
-    head = path.read_bytes()[:65536]
+    with open(path, "rb") as stream:
+        head = stream.read(65536)
     match = re.search(rb"<unit\b[^>]*\bmeter\s*=\s*[\"']([0-9.eE+-]+)[\"']", head)
     if not match:
         return None

@@ -1,9 +1,14 @@
-"""Resolve mesh URIs of a URDF (relative, ``file://`` and ``package://``) to files."""
+"""Resolve mesh URIs of a URDF (relative, ``file://`` and ``package://``) to files.
+
+Only local regular files are ever returned: other URL schemes, ``file://`` URIs naming a
+remote host, FIFOs and devices are refused, so nothing is fetched and no read can block.
+"""
 
 from __future__ import annotations
 
 import os
 import re
+import stat
 from collections.abc import Mapping
 from pathlib import Path
 from urllib.parse import unquote, urlparse
@@ -11,6 +16,8 @@ from urllib.parse import unquote, urlparse
 from .errors import MeshError
 
 _PACKAGE_NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
+#: ROS package names (REP 144 is stricter; this only keeps out '', '.', '..' and separators).
+_PACKAGE_NAME_OK = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*\Z")
 
 
 def find_package(name: str, urdf_dir: Path, package_dirs: Mapping[str, Path]) -> Path | None:
@@ -64,12 +71,16 @@ def resolve_mesh_path(
         fetched), names a package that cannot be found, or the file does not exist.
     """
     package_dirs = package_dirs or {}
+    if "\x00" in uri:
+        raise MeshError(f"mesh URI {uri!r} contains a NUL character")
     parsed = urlparse(uri)
     scheme = parsed.scheme.lower()
     if scheme == "package":
         name, rel = parsed.netloc, unquote(parsed.path).lstrip("/")
         if not name:  # "package:///NAME/..." occurs in the wild (example-robot-data)
             name, _, rel = rel.partition("/")
+        if not _PACKAGE_NAME_OK.match(name):
+            raise MeshError(f"mesh URI {uri!r} does not name a valid ROS package")
         root = find_package(name, urdf_dir, package_dirs)
         if root is None:
             raise MeshError(
@@ -78,6 +89,9 @@ def resolve_mesh_path(
             )
         path = root / rel
     elif scheme == "file":
+        if parsed.netloc not in ("", "localhost"):
+            raise MeshError(f"mesh URI {uri!r} names host '{parsed.netloc}': only local "
+                            "files are read")
         path = Path(unquote(parsed.path))
     elif scheme == "" or (len(scheme) == 1 and os.name == "nt"):
         path = Path(uri)
@@ -85,6 +99,11 @@ def resolve_mesh_path(
             path = urdf_dir / path
     else:
         raise MeshError(f"mesh URI {uri!r} uses scheme '{scheme}': only files are read")
-    if not path.is_file():
-        raise MeshError(f"mesh file not found: {uri!r} (looked at {path})")
+    try:
+        info = path.stat()  # follows symbolic links, like every later read
+    except (OSError, ValueError):
+        raise MeshError(f"mesh file not found: {uri!r} (looked at {path})") from None
+    if not stat.S_ISREG(info.st_mode):
+        # a FIFO, device or folder: reading could block forever or never end
+        raise MeshError(f"mesh {uri!r} is not a regular file (looked at {path})")
     return path

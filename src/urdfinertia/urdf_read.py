@@ -1,7 +1,9 @@
 """Read a URDF with a hardened lxml parser into :mod:`urdf_model` objects.
 
 Entities are never resolved, no DTD is loaded and nothing is fetched from the network;
-documents that declare entities are refused outright (XXE, "billion laughs").
+documents that declare entities are refused outright (XXE, "billion laughs"). Numbers must
+be plain finite decimals; sizes must be positive and existing masses and principal
+diagonal moments non-negative (:func:`check_inertial_signs`, strict reading only).
 """
 
 from __future__ import annotations
@@ -27,40 +29,52 @@ from .urdf_model import (
     Shape,
     Sphere,
 )
+from .xml_safety import MAX_XML_DEPTH, hostile_xml_cause, safe_parser
 
 #: Largest URDF accepted, bytes (the biggest real ones are a few MB).
 MAX_URDF_BYTES = 64 * 1024 * 1024
-_ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
+#: Largest magnitude of any number read (SI units: 1e9 m, kg or kg m^2 describe no robot);
+#: keeps every product the maths forms far from float64 overflow (1e308).
+MAX_MAGNITUDE = 1e9
+#: Encodings the byte-level patcher (:mod:`urdf_write`) can splice safely.
+_ENCODINGS = {"utf-8", "utf8", "us-ascii", "ascii"}
+#: A decimal number as XML Schema writes a double, without NaN/INF (checked separately)
+#: and without what Python's ``float`` also takes (``1_0``, non-ASCII digits, spaces).
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 
 
 def make_parser() -> etree.XMLParser:
-    """The only XML parser this package uses: no entities, no DTD, no network."""
-    return etree.XMLParser(
-        resolve_entities=False,
-        no_network=True,
-        load_dtd=False,
-        dtd_validation=False,
-        huge_tree=False,
-        remove_comments=False,
-        remove_pis=False,
-        strip_cdata=False,
-    )
+    """The only XML parser this package uses (see :func:`xml_safety.safe_parser`)."""
+    return safe_parser()
 
 
 def parse_xml(data: bytes, file: str | Path) -> etree._Element:
-    """Parse URDF bytes into an lxml root element, refusing hostile constructs."""
+    """Parse URDF bytes into an lxml root element, refusing hostile constructs.
+
+    Checked before lxml runs: size (``MAX_URDF_BYTES``), entity declarations, external
+    DTDs and UTF-16/32 encodings (:func:`xml_safety.hostile_xml_cause`). lxml then runs
+    with libxml2's default limits (nesting depth ``MAX_XML_DEPTH``).
+    """
     if len(data) > MAX_URDF_BYTES:
-        raise UrdfError(f"file is larger than {MAX_URDF_BYTES} bytes", file=file)
-    if _ENTITY_DECL.search(data):
-        raise UrdfError("XML entity declarations are not allowed (possible XXE or entity bomb)",
-                        file=file)
+        raise UrdfError(f"file is larger than the limit of {MAX_URDF_BYTES} bytes", file=file)
+    cause = hostile_xml_cause(data)
+    if cause:
+        raise UrdfError(cause, file=file)
     try:
         root = etree.fromstring(data, parser=make_parser())
     except etree.XMLSyntaxError as exc:
         line = exc.lineno if getattr(exc, "lineno", None) else None
         msg = getattr(exc, "msg", None) or str(exc)
+        if "Excessive depth" in msg:
+            msg = f"elements nested deeper than {MAX_XML_DEPTH} levels"
         raise UrdfError(f"malformed XML: {msg}", file=file, line=line) from None
-    if not isinstance(root.tag, str) or etree.QName(root).localname != "robot":
+    except ValueError as exc:  # lxml refuses e.g. a str with an encoding declaration
+        raise UrdfError(f"malformed XML: {exc}", file=file) from None
+    encoding = (root.getroottree().docinfo.encoding or "utf-8").lower()
+    if encoding not in _ENCODINGS:
+        raise UrdfError(f"encoding '{encoding}' is not supported: convert the file to UTF-8",
+                        file=file)
+    if not isinstance(root.tag, str) or root.tag != "robot":
         raise UrdfError(f"root element is <{root.tag}>, expected <robot>", file=file,
                         line=root.sourceline)
     return root
@@ -78,7 +92,29 @@ def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
 
 def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
     root = parse_xml(data, path)
-    return robot_from_element(root, Path(path))
+    robot = robot_from_element(root, Path(path))
+    check_inertial_signs(robot)
+    return robot
+
+
+def check_inertial_signs(robot: Robot) -> None:
+    """Refuse an existing ``<inertial>`` with a negative mass or diagonal moment.
+
+    Such values describe no body in any frame (a diagonal entry of a positive
+    semi-definite tensor is never negative). A zero mass is a common placeholder and is
+    accepted. The linter (:mod:`raw_inertial`) skips this check to report them instead.
+    """
+    for link in robot.links:
+        inertial = link.inertial
+        if inertial is None:
+            continue
+        where = {"file": robot.path, "line": inertial.line, "link": link.name}
+        if inertial.mass < 0:
+            raise UrdfError(f"<mass value=\"{inertial.mass:g}\"> is negative", **where)
+        for key in ("ixx", "iyy", "izz"):
+            value = getattr(inertial, key)
+            if value < 0:
+                raise UrdfError(f"<inertia {key}=\"{value:g}\"> is negative", **where)
 
 
 def robot_from_element(root: etree._Element, path: Path) -> Robot:
@@ -113,15 +149,19 @@ class _Ctx:
         text = el.get(attr, default)
         if text is None:
             raise self.error(f"<{el.tag}> is missing attribute '{attr}'", el)
+        shown = text if len(text) <= 80 else text[:77] + "..."
         parts = text.split()
         if len(parts) != n:
-            raise self.error(f"<{el.tag} {attr}=\"{text}\"> needs {n} numbers", el)
-        try:
-            values = tuple(float(p) for p in parts)
-        except ValueError:
-            raise self.error(f"<{el.tag} {attr}=\"{text}\"> is not a number", el) from None
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> needs {n} numbers", el)
+        if not all(_NUMBER.match(p) for p in parts):
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is not a number", el)
+        values = tuple(float(p) for p in parts)
         if not all(math.isfinite(v) for v in values):
-            raise self.error(f"<{el.tag} {attr}=\"{text}\"> is not finite", el)
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (not finite)",
+                             el)
+        if any(abs(v) > MAX_MAGNITUDE for v in values):
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (magnitude "
+                             f"above {MAX_MAGNITUDE:g})", el)
         return values
 
     def positive(self, el: etree._Element, attr: str, n: int = 1) -> tuple[float, ...]:

@@ -23,6 +23,16 @@ _TAG = re.compile(
 )
 _NAME_ATTR = re.compile(rb"(?:^|\s)name\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
 _ENTITIES = {"&quot;": '"', "&apos;": "'"}
+_CHAR_REF = re.compile(r"&#(x[0-9a-fA-F]+|[0-9]+);")
+
+
+def _attribute_text(raw: bytes) -> str:
+    """An attribute value as lxml reports it: character and predefined entity refs decoded."""
+    text = _CHAR_REF.sub(
+        lambda m: chr(int(m.group(1)[1:], 16) if m.group(1)[0] == "x" else int(m.group(1))),
+        raw.decode("utf-8"),
+    )
+    return unescape(text, _ENTITIES)
 #: Off-diagonal products and CoM components smaller than this fraction of the largest
 #: principal moment (or of the geometry's size) are round-off and written as 0.
 NOISE_RTOL = 1e-12
@@ -89,7 +99,7 @@ def scan_links(data: bytes) -> dict[str, LinkSpan]:
             am = _NAME_ATTR.search(attrs)
             raw = (am.group(1) if am.group(1) is not None else am.group(2)) if am else b""
             current = {
-                "name": unescape(raw.decode("utf-8"), _ENTITIES),
+                "name": _attribute_text(raw),
                 "start_tag_end": m.end(),
                 "inertial": None,
                 "first_child_indent": None,
