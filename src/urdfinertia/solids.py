@@ -4,6 +4,11 @@ Each solid carries its volume integrals about the mesh frame's origin at unit de
 ``<mesh scale>`` (including mirroring, det < 0) is applied afterwards exactly:
 volume scales by ``|det S|``, the first moment by ``|det S| S`` and the second by
 ``|det S| S (.) S^T``. Every result names the method that produced it.
+
+Two stages, timed and cached separately: :func:`urdfinertia.repair.repair_mesh` turns
+the triangles into closed bodies (welding, orientation, hole caps, cavities, unions) and
+:func:`integrate_repaired` integrates them. Both results are plain arrays, floats and
+strings, so they pickle.
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ from .errors import MeshError
 from .massprops import MassProperties
 from .mesh_io import TriangleMesh
 from .polyhedron import mass_properties_from_integrals, solid_integrals
+from .repair import RepairedMesh, repair_mesh
 
 
 @dataclass(frozen=True, eq=False)
@@ -34,7 +40,9 @@ class Solid:
     method : str
         How the solid was obtained, e.g. ``"exact (closed mesh)"``.
     error_estimate : float or None
-        Relative error bound or estimate of the volume where the method has one.
+        Estimated relative error of the volume where the method has one (0 for exact).
+    notes : tuple of str
+        What was repaired on this body.
     """
 
     volume: float
@@ -72,51 +80,26 @@ class MeshSolids:
         return MeshSolids(tuple(s.scaled(scale) for s in self.solids), self.notes)
 
 
-def mesh_solids(mesh: TriangleMesh) -> MeshSolids:
-    """Split a mesh into bodies and integrate each one.
+def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
+    """Exact volume integrals of each repaired body (cavities subtract).
 
-    Closed bodies are integrated exactly after merging duplicate vertices and orienting
-    faces outward. Open bodies are closed where trimesh can fill the holes; otherwise
-    their surface is integrated as it is, with a warning.
+    A body whose net volume is not positive (a sliver left by a boolean union, a shell
+    cancelled by its cavity) is dropped with a note; none left is a :class:`MeshError`.
     """
-    import trimesh
-
-    tm = trimesh.Trimesh(mesh.vertices, mesh.faces, process=True, validate=False)
-    tm.merge_vertices()
-    tm.update_faces(tm.nondegenerate_faces())
-    if len(tm.faces) == 0:
-        raise MeshError("mesh has no non-degenerate triangles")
-    bodies = tm.split(only_watertight=False)
-    solids: list[Solid] = []
-    notes: list[str] = []
-    for body in bodies:
-        solid = _body_solid(body)
-        if solid is not None:
-            solids.append(solid)
+    solids = []
+    for body in repaired.bodies:
+        volume, first, second = solid_integrals(body.vertices, body.faces)
+        if np.isfinite(volume) and volume > 0:
+            solids.append(Solid(volume, first, second, body.method, body.error_estimate,
+                                body.notes))
     if not solids:
-        raise MeshError("mesh encloses no volume (flat or degenerate surface)")
-    if len(bodies) > 1:
-        notes.append(f"{len(bodies)} bodies")
-    return MeshSolids(tuple(solids), tuple(notes))
+        raise MeshError("mesh encloses no volume")
+    notes = repaired.notes
+    if len(solids) < len(repaired.bodies):
+        notes += (f"dropped {len(repaired.bodies) - len(solids)} bodies with no net volume",)
+    return MeshSolids(tuple(solids), notes)
 
 
-def _body_solid(body) -> Solid | None:
-    import trimesh
-
-    notes: list[str] = []
-    method = "exact (closed mesh)"
-    if not body.is_watertight:
-        trimesh.repair.fill_holes(body)
-        if body.is_watertight:
-            method = "exact after filling holes"
-        else:
-            method = "open surface integrated as is"
-            notes.append("open mesh: volume is approximate")
-    trimesh.repair.fix_winding(body)
-    volume, first, second = solid_integrals(body.vertices, body.faces)
-    if volume < 0:
-        volume, first, second = -volume, -first, -second
-        notes.append("inverted faces flipped")
-    if volume <= 1e-15:
-        return None
-    return Solid(volume, first, second, method, None, tuple(notes))
+def mesh_solids(mesh: TriangleMesh) -> MeshSolids:
+    """Repair a mesh into closed bodies and integrate each one (see :mod:`repair`)."""
+    return integrate_repaired(repair_mesh(mesh))

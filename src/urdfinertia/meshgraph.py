@@ -1,0 +1,176 @@
+"""Topology of triangle meshes: vertex welding, edges, orientation and boundary loops.
+
+Vectorised with numpy and scipy's sparse graph routines (connected components run in C);
+no Python loop visits a triangle. A mesh here is a pair ``vertices (n, 3) float``,
+``faces (m, 3) int``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+
+def components(n: int, a: np.ndarray, b: np.ndarray) -> tuple[int, np.ndarray]:
+    """Connected components of the undirected graph on ``n`` nodes with edges ``a[i]-b[i]``."""
+    if n == 0:
+        return 0, np.zeros(0, dtype=np.int64)
+    graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(n, n))
+    count, labels = connected_components(graph, directed=False)
+    return int(count), labels.astype(np.int64)
+
+
+def weld_vertices(vertices: np.ndarray, faces: np.ndarray, tolerance: float,
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Merge vertices closer than ``tolerance`` (chains merge transitively).
+
+    Returns the used, merged vertices and the faces re-indexed into them.
+    """
+    from scipy.spatial import cKDTree
+
+    used, inverse = np.unique(faces.reshape(-1), return_inverse=True)
+    v = vertices[used]
+    # exact duplicates first (STL soup repeats each vertex ~6 times): cheap and lossless
+    exact, exact_inv = np.unique(v, axis=0, return_inverse=True)
+    exact_inv = exact_inv.reshape(-1)
+    if tolerance > 0 and len(exact) > 1:
+        pairs = cKDTree(exact).query_pairs(tolerance, output_type="ndarray")
+        _, label = components(len(exact), pairs[:, 0], pairs[:, 1])
+        first = np.full(label.max() + 1, -1, dtype=np.int64)
+        order = np.arange(len(exact))[::-1]
+        first[label[order]] = order  # lowest index of each cluster represents it
+        keep, remap = np.unique(first[label], return_inverse=True)
+        merged = exact[keep]
+        exact_inv = remap.reshape(-1)[exact_inv]
+    else:
+        merged = exact
+    new_faces = exact_inv[inverse].reshape(faces.shape)
+    return merged, new_faces.astype(np.int64)
+
+
+def drop_degenerate(vertices: np.ndarray, faces: np.ndarray, area_tol: float,
+                    ) -> np.ndarray:
+    """Faces with three distinct vertices and an area above ``area_tol``."""
+    distinct = ((faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2])
+                & (faces[:, 0] != faces[:, 2]))
+    tri = vertices[faces]
+    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    return faces[distinct & (area > area_tol)]
+
+
+def cancel_duplicate_faces(faces: np.ndarray) -> tuple[np.ndarray, int, int]:
+    """Remove repeated triangles.
+
+    Copies with the same orientation are kept once (a body exported twice); a pair with
+    opposite orientation cancels (the shared wall of two touching bodies, whose integrals
+    cancel anyway). Returns the faces and the counts of removed repeats and cancelled pairs.
+    """
+    if len(faces) == 0:
+        return faces, 0, 0
+    key = np.sort(faces, axis=1)
+    # orientation parity relative to the sorted order: cyclic rotations keep it
+    rolled = np.stack([faces, np.roll(faces, 1, axis=1), np.roll(faces, 2, axis=1)])
+    parity = np.where(np.all(rolled == key[None], axis=2).any(axis=0), 1, -1)
+    _, group, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    group = group.reshape(-1)
+    net = np.bincount(group, weights=parity).astype(np.int64)
+    # keep the first face of each group whose orientation matches the net sign
+    want = np.sign(net)[group]
+    candidate = np.flatnonzero(parity == want)
+    _, first = np.unique(group[candidate], return_index=True)
+    kept = candidate[first]
+    out = faces[np.sort(kept)]
+    cancelled = int(np.sum(counts[net == 0]) // 2)
+    repeats = len(faces) - len(out) - 2 * cancelled
+    return out, repeats, cancelled
+
+
+def edge_table(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Half-edges of the faces grouped by undirected edge.
+
+    Returns
+    -------
+    edge_id : (3m,) int
+        Undirected edge of half-edge ``3 f + k`` (from corner k to k+1 of face f).
+    forward : (3m,) bool
+        Whether the half-edge runs from the lower to the higher vertex index.
+    edges : (e, 2) int
+        The undirected edges, lower index first.
+    """
+    tail = faces.reshape(-1)
+    head = np.roll(faces, -1, axis=1).reshape(-1)
+    lo, hi = np.minimum(tail, head), np.maximum(tail, head)
+    edges, edge_id = np.unique(np.stack([lo, hi], axis=1), axis=0, return_inverse=True)
+    return edge_id.reshape(-1), tail < head, edges
+
+
+def consistent_orientation(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Flip faces so that neighbours across every two-sided edge agree.
+
+    Orientation propagates across edges shared by exactly two faces, as a graph
+    problem on the double cover (face, side): consistent neighbours link equal sides,
+    inconsistent ones opposite sides; a face whose two sides fall in one component lies
+    on a non-orientable patch.
+
+    Returns
+    -------
+    flip : (m,) bool
+        Faces to reverse.
+    patch : (m,) int
+        Orientation patch of each face (faces linked through two-sided edges).
+    non_orientable : (m,) bool
+    """
+    m = len(faces)
+    edge_id, forward, edges = edge_table(faces)
+    order = np.argsort(edge_id, kind="stable")
+    counts = np.bincount(edge_id, minlength=len(edges))
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    two = np.flatnonzero(counts == 2)
+    h1, h2 = order[starts[two]], order[starts[two] + 1]
+    f1, f2 = h1 // 3, h2 // 3
+    same_side = forward[h1] != forward[h2]  # opposite directions: already consistent
+    a = np.concatenate([f1, f1 + m])
+    b = np.concatenate([np.where(same_side, f2, f2 + m), np.where(same_side, f2 + m, f2)])
+    _, label = components(2 * m, a, b)
+    plus, minus = label[:m], label[m:]
+    non_orientable = plus == minus
+    flip = plus > minus
+    _, patch = components(m, f1, f2)
+    return flip, patch, non_orientable
+
+
+def boundary_edges(faces: np.ndarray) -> np.ndarray:
+    """Directed edges where the surface is not closed, as the faces run along them.
+
+    An undirected edge is closed when it is used as often in each direction; otherwise
+    the surplus direction is returned, repeated as often as it is in surplus.
+
+    Returns
+    -------
+    (b, 2) int
+        ``(tail, head)`` pairs.
+    """
+    edge_id, forward, edges = edge_table(faces)
+    net = np.bincount(edge_id, weights=np.where(forward, 1.0, -1.0),
+                      minlength=len(edges)).astype(np.int64)
+    idx = np.flatnonzero(net)
+    reps = np.abs(net[idx])
+    e = np.repeat(edges[idx], reps, axis=0)
+    backward = np.repeat(net[idx] < 0, reps)
+    e[backward] = e[backward][:, ::-1]
+    return e
+
+
+def face_components(faces: np.ndarray) -> tuple[int, np.ndarray]:
+    """Components of faces linked through shared edges: ``(count, label per face)``.
+
+    Bodies that merely touch at a vertex, or cross without sharing an edge, stay apart.
+    """
+    m = len(faces)
+    if m == 0:
+        return 0, np.zeros(0, dtype=np.int64)
+    edge_id, _, _ = edge_table(faces)
+    order = np.argsort(edge_id, kind="stable")
+    same = edge_id[order][1:] == edge_id[order][:-1]
+    return components(m, order[:-1][same] // 3, order[1:][same] // 3)
