@@ -80,23 +80,47 @@ class MeshSolids:
         return MeshSolids(tuple(s.scaled(scale) for s in self.solids), self.notes)
 
 
+#: Bodies with an invalid tensor smaller than this fraction of a mesh's volume are dropped.
+SLIVER_FRACTION = 0.01
+
+
 def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
     """Exact volume integrals of each repaired body (cavities subtract).
 
     A body whose net volume is not positive (a sliver left by a boolean union, a shell
     cancelled by its cavity) is dropped with a note; none left is a :class:`MeshError`.
     """
-    solids = []
+    candidates = []
     for body in repaired.bodies:
         volume, first, second = solid_integrals(body.vertices, body.faces)
         if np.isfinite(volume) and volume > 0:
-            solids.append(Solid(volume, first, second, body.method, body.error_estimate,
-                                body.notes))
-    if not solids:
+            candidates.append(Solid(volume, first, second, body.method, body.error_estimate,
+                                    body.notes))
+    if not candidates:
         raise MeshError("mesh encloses no volume")
     notes = repaired.notes
-    if len(solids) < len(repaired.bodies):
-        notes += (f"dropped {len(repaired.bodies) - len(solids)} bodies with no net volume",)
+    if len(candidates) < len(repaired.bodies):
+        notes += (f"dropped {len(repaired.bodies) - len(candidates)} bodies with no net "
+                  "volume",)
+    # A body whose integrals give no valid tensor is not a closed solid (a self-crossing
+    # sliver left by a union or a cap). Tiny ones are dropped with a note; a large one is
+    # an error, never a silent wrong answer.
+    total = sum(s.volume for s in candidates)
+    solids, slivers = [], 0.0
+    for solid in candidates:
+        try:
+            solid.mass_properties(1.0)
+        except ValueError as exc:
+            if solid.volume > SLIVER_FRACTION * total:
+                raise MeshError(f"a repaired body ({solid.method}) holding "
+                                f"{solid.volume / total:.1%} of the volume has no valid "
+                                f"inertia tensor: {exc}") from None
+            slivers += solid.volume
+            continue
+        solids.append(solid)
+    if slivers:
+        notes += (f"dropped {len(candidates) - len(solids)} sliver bodies without a valid "
+                  f"tensor ({slivers / total:.2%} of the volume)",)
     return MeshSolids(tuple(solids), notes)
 
 

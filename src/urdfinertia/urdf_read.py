@@ -97,6 +97,11 @@ def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
     return robot
 
 
+#: Negative diagonal moments down to this (kg m^2) are CAD round-off of 0 (iCub has
+#: ``ixx="-5.42101e-20"``) and are accepted; ``fix`` replaces them anyway.
+NEGATIVE_MOMENT_ROUNDOFF = 1e-12
+
+
 def check_inertial_signs(robot: Robot) -> None:
     """Refuse an existing ``<inertial>`` with a negative mass or diagonal moment.
 
@@ -113,7 +118,7 @@ def check_inertial_signs(robot: Robot) -> None:
             raise UrdfError(f"<mass value=\"{inertial.mass:g}\"> is negative", **where)
         for key in ("ixx", "iyy", "izz"):
             value = getattr(inertial, key)
-            if value < 0:
+            if value < -NEGATIVE_MOMENT_ROUNDOFF:
                 raise UrdfError(f"<inertia {key}=\"{value:g}\"> is negative", **where)
 
 
