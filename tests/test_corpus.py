@@ -8,12 +8,11 @@ lines only; a second run on the output changes nothing.
 from pathlib import Path
 
 import pytest
+from test_urdf_write import assert_only_inertials_differ
 
 from urdfinertia.errors import MeshError, UrdfInertiaError
 from urdfinertia.fix import FixOptions, fix_file
 from urdfinertia.meshlib import MeshLibrary
-
-from test_urdf_write import assert_only_inertials_differ
 
 pytestmark = pytest.mark.corpus
 

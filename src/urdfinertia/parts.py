@@ -98,7 +98,7 @@ def geometry_parts(ref: GeometryRef, meshes: MeshLibrary, urdf_dir: Path) -> lis
     try:
         bodies = shape_solids(ref.shape, meshes, urdf_dir)
     except UrdfInertiaError as exc:
-        raise exc.with_context(line=ref.line)
+        raise exc.with_context(line=ref.line) from None
     pose = ref.origin.matrix()
     parts = []
     for i, (unit, method, notes) in enumerate(bodies):
