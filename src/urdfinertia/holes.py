@@ -28,7 +28,7 @@ import numpy as np
 
 from .loops import boundary_cycles, ordered_cycles
 from .meshgraph import boundary_edges
-from .polyhedron import face_moments
+from .polyhedron import face_volumes
 
 
 @dataclass(frozen=True, eq=False)
@@ -168,7 +168,7 @@ def _loop_volumes(vertices: np.ndarray, caps: np.ndarray, loop: np.ndarray, n_lo
     if len(caps) == 0:
         return np.zeros(n_loops)
     centre = vertices.mean(axis=0)
-    vol = face_moments(vertices[caps] - centre)[0]
+    vol = face_volumes(vertices[caps] - centre)
     return np.bincount(loop, weights=vol, minlength=n_loops)
 
 

@@ -14,35 +14,17 @@ from numpy.typing import ArrayLike
 from .massprops import MassProperties
 
 
-def face_moments(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Signed volume, first and second moments of each face's tetrahedron with the origin.
+def used_vertices(n: int, faces: np.ndarray) -> np.ndarray:
+    """(n,) bool: which of ``n`` vertices the faces use (O(n), no sort)."""
+    used = np.zeros(n, dtype=bool)
+    used[np.asarray(faces).reshape(-1)] = True
+    return used
 
-    Parameters
-    ----------
-    triangles : (n, 3, 3) float
-        Vertex coordinates per face, counter-clockwise seen from outside.
 
-    Returns
-    -------
-    volume : (n,) float
-    first : (n, 3) float
-        ``integral(x dV)`` per tetrahedron.
-    second : (n, 3, 3) float
-        ``integral(x x^T dV)`` per tetrahedron.
-    """
+def face_volumes(triangles: np.ndarray) -> np.ndarray:
+    """(n,) signed volume of each face's tetrahedron with the origin."""
     tri = np.asarray(triangles, dtype=np.float64)
-    if tri.ndim != 3 or tri.shape[1:] != (3, 3):
-        raise ValueError(f"triangles must have shape (n, 3, 3), got {tri.shape}")
-    v0, v1, v2 = tri[:, 0], tri[:, 1], tri[:, 2]
-    det = np.einsum("ij,ij->i", v0, np.cross(v1, v2))
-    total = v0 + v1 + v2
-    volume = det / 6.0
-    first = det[:, None] * total / 24.0
-    # integral over tetra (0, v0, v1, v2) of x x^T = det/120 (sum v v^T + s s^T)
-    second = (det / 120.0)[:, None, None] * (
-        np.einsum("fki,fkj->fij", tri, tri) + np.einsum("fi,fj->fij", total, total)
-    )
-    return volume, first, second
+    return np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
 
 
 def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.ndarray, np.ndarray]:
@@ -69,11 +51,17 @@ def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.nd
         raise ValueError(f"faces must have shape (m, 3), got {f.shape}")
     if len(f) == 0:
         return 0.0, np.zeros(3), np.zeros((3, 3))
-    centre = v[np.unique(f)].mean(axis=0)
-    vol, first, second = face_moments(v[f] - centre)
-    volume = float(vol.sum())
-    first_c = first.sum(axis=0)
-    second_c = second.sum(axis=0)
+    centre = v[used_vertices(len(v), f)].mean(axis=0)
+    tri = v[f] - centre
+    det = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2]))
+    total = tri.sum(axis=1)
+    # Per tetrahedron (0, v0, v1, v2) with det = v0 . (v1 x v2): volume det/6,
+    # integral(x dV) = det (v0+v1+v2)/24 and integral(x x^T dV) = det/120 (sum v v^T + s s^T);
+    # summed over faces without building (m, 3, 3) intermediates.
+    volume = float(det.sum()) / 6.0
+    first_c = det @ total / 24.0
+    second_c = (np.einsum("f,fki,fkj->ij", det, tri, tri, optimize=True)
+                + np.einsum("f,fi,fj->ij", det, total, total, optimize=True)) / 120.0
     # shift moments back from the centroid to the origin
     first_o = first_c + volume * centre
     second_o = (second_c + np.outer(first_c, centre) + np.outer(centre, first_c)

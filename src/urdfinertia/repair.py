@@ -35,7 +35,7 @@ from .meshgraph import (
     face_components,
     weld_vertices,
 )
-from .polyhedron import face_moments
+from .polyhedron import face_volumes, used_vertices
 from .winding import winding_numbers
 
 #: Vertices closer than this fraction of the bounding-box diagonal are merged.
@@ -99,10 +99,10 @@ def repair_mesh(mesh: TriangleMesh) -> RepairedMesh:
     """
     vertices, faces = _checked(mesh)
     notes: list[str] = []
-    size = float(np.linalg.norm(np.ptp(vertices[np.unique(faces)], axis=0)))
+    size = float(np.linalg.norm(np.ptp(vertices[used_vertices(len(vertices), faces)], axis=0)))
     if not size > 0:
         raise MeshError("mesh is a single point: it encloses no volume")
-    n_in = len(np.unique(faces))
+    n_in = int(used_vertices(len(vertices), faces).sum())
     vertices, faces = weld_vertices(vertices, faces, WELD_RTOL * size)
     if len(vertices) < n_in:
         notes.append(f"merged {n_in - len(vertices)} duplicate vertices")
@@ -151,7 +151,7 @@ def _checked(mesh: TriangleMesh) -> tuple[np.ndarray, np.ndarray]:
     faces = faces.astype(np.int64)
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise MeshError("mesh faces index vertices that do not exist")
-    if not np.all(np.isfinite(vertices[np.unique(faces)])):
+    if not np.all(np.isfinite(vertices[used_vertices(len(vertices), faces)])):
         raise MeshError("mesh has non-finite (NaN or infinite) vertex coordinates")
     return vertices, faces
 
@@ -178,8 +178,8 @@ def _orient(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, int, i
     own_v, own_f, _ = close_holes(vertices[uniq % n], local, triangulate=False)
     vertex_patch = np.concatenate([uniq // n, np.zeros(len(own_v) - len(uniq), np.int64)])
     face_patch = np.concatenate([patch, vertex_patch[own_f[len(local):, 0]]])
-    centre = vertices[np.unique(faces)].mean(axis=0)
-    volume = np.bincount(face_patch, weights=face_moments(own_v[own_f] - centre)[0],
+    centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
+    volume = np.bincount(face_patch, weights=face_volumes(own_v[own_f] - centre),
                          minlength=n_patch)
     tri = vertices[faces]
     area = np.bincount(patch, weights=0.5 * np.linalg.norm(
@@ -250,9 +250,9 @@ def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
     count, label = face_components(faces)
     vertex_label = np.zeros(len(vertices), dtype=np.int64)
     vertex_label[faces.reshape(-1)] = np.repeat(label, 3)
-    centre = vertices[np.unique(faces)].mean(axis=0)
+    centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
     tri = vertices[faces] - centre
-    volume = np.bincount(label, weights=face_moments(tri)[0], minlength=count)
+    volume = np.bincount(label, weights=face_volumes(tri), minlength=count)
     area = np.bincount(label, weights=0.5 * np.linalg.norm(
         np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1), minlength=count)
     solid = np.abs(volume) > FLAT_RTOL * area ** 1.5
@@ -365,5 +365,5 @@ def _unite(shells: list[_Shell], groups: list[tuple[int, list[int]]],
 
 def _volume(vertices: np.ndarray, faces: np.ndarray) -> float:
     centre = vertices.mean(axis=0)
-    return float(face_moments(vertices[faces] - centre)[0].sum())
+    return float(face_volumes(vertices[faces] - centre).sum())
 
