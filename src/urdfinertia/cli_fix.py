@@ -10,9 +10,10 @@ from pathlib import Path
 from rich.console import Console
 
 from .atomic import atomic_write_bytes, write_in_place
+from .batch_cli import add_batch_arguments, finish_single, is_batch, run_many, single_file_library
 from .errors import OutputError, UrdfInertiaError
 from .fix import GEOMETRY_MODES, MASS_MODES, FixOptions, fix_file
-from .mesh_io import DEFAULT_MAX_FACES
+from .mesh_io import BYTES_PER_FACE, DEFAULT_MAX_FACES
 from .results_json import fix_result_dict
 from .table import print_fix_table
 
@@ -50,7 +51,9 @@ def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--spec", type=Path, metavar="TOML",
                    help="decomposition spec: parts with known mass, density or material")
     p.add_argument("--max-faces", type=int, default=DEFAULT_MAX_FACES, metavar="N",
-                   help=f"refuse meshes with more faces (default {DEFAULT_MAX_FACES})")
+                   help=f"refuse meshes with more faces, or mesh files larger than "
+                        f"{BYTES_PER_FACE} bytes per face plus 1 MiB, before reading them "
+                        f"(default {DEFAULT_MAX_FACES})")
 
 
 def options_from_args(args: argparse.Namespace) -> FixOptions:
@@ -70,7 +73,11 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("urdf", type=Path, help="the URDF to fix")
+    p.add_argument("urdf", type=Path, help="the URDF to fix, or a folder of URDFs")
+    p.add_argument("more", type=Path, nargs="*", metavar="URDF_OR_DIR",
+                   help="more URDFs or folders (searched recursively for *.urdf); with "
+                        "several inputs or a folder, -o names an output folder that keeps "
+                        "the tree")
     out = p.add_mutually_exclusive_group()
     out.add_argument("-o", "--output", type=Path, help="write the fixed URDF here")
     out.add_argument("--in-place", action="store_true",
@@ -78,21 +85,39 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_common_geometry_arguments(p)
     p.add_argument("--json", type=Path, metavar="PATH", help="write per-link results as JSON")
     p.add_argument("-q", "--quiet", action="store_true", help="no table on the terminal")
+    p.add_argument("--repair-only", action="store_true",
+                   help="keep every mass and CoM; only lift the principal moments of invalid "
+                        "tensors (not positive definite, A + B < C) just enough; geometry "
+                        "options are ignored")
+    add_batch_arguments(p)
 
 
 def run(args: argparse.Namespace) -> int:
     options = options_from_args(args)
-    result = fix_file(args.urdf, options)
+    if getattr(args, "repair_only", False):
+        from .repair_only import repair_file
+
+        if is_batch(args):
+            raise UrdfInertiaError("--repair-only takes a single URDF file")
+        result = repair_file(args.urdf)
+    elif is_batch(args):
+        return run_many(args, options)
+    else:
+        meshes = single_file_library(args, options)
+        result = fix_file(args.urdf, options, meshes)
+        finish_single(args, meshes)
     if args.output is not None and args.output.resolve() == args.urdf.resolve():
         raise OutputError("output is the input file: use --in-place", file=args.output)
-    if args.json is not None:
-        text = json.dumps(fix_result_dict(result), indent=2)
-        atomic_write_bytes(args.json, text.encode())
+    # everything is computed before the first write; the URDF (the file that matters)
+    # is written first, so a failure leaves at most the JSON missing
+    text = json.dumps(fix_result_dict(result), indent=2) if args.json is not None else None
     if args.in_place:
         if result.changed:
             write_in_place(args.urdf, result.output)
     elif args.output is not None:
         atomic_write_bytes(args.output, result.output)
+    if text is not None:
+        atomic_write_bytes(args.json, text.encode())
     if not args.quiet:
         console = Console(stderr=args.output is None and not args.in_place, width=160)
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)

@@ -1,34 +1,146 @@
-"""Resolve, read and integrate each mesh file once per run."""
+"""Resolve, read and integrate each mesh file once per run (and once ever, with a cache)."""
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Mapping
 from pathlib import Path
 
+from . import solids as solids_module
+from .cache import SolidsCache, file_entry_key
 from .errors import MeshError
-from .mesh_io import DEFAULT_MAX_FACES, load_mesh
+from .mesh_io import DEFAULT_MAX_FACES, TriangleMesh, load_mesh, max_mesh_bytes
 from .paths import resolve_mesh_path
-from .solids import MeshSolids, mesh_solids
+from .solids import MeshSolids
+from .timing import StageTimes
+
+
+def integrate_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> MeshSolids:
+    """Repair and integrate ``mesh``, timing the two stages separately where possible."""
+    timer = timer if timer is not None else StageTimes()
+    repair = getattr(solids_module, "repair_mesh", None)
+    integrate = getattr(solids_module, "integrate_repaired", None)
+    if repair is None or integrate is None:
+        with timer.stage("repair"):  # one opaque stage: repair and integration together
+            return solids_module.mesh_solids(mesh)
+    with timer.stage("repair"):
+        repaired = repair(mesh)
+    with timer.stage("integration"):
+        return integrate(repaired)
+
+
+def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
+    """The error :func:`load_mesh` raises, for a cache hit over the limit."""
+    return MeshError(f"mesh {path} has {faces} faces, more than the limit "
+                     f"{max_faces} (raise it with --max-faces)")
+
+
+def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
+                     cache: SolidsCache | None = None,
+                     timer: StageTimes | None = None) -> MeshSolids:
+    """Unscaled solids of one mesh file, from ``cache`` when it holds them.
+
+    Raises
+    ------
+    MeshError
+        The file cannot be read, parsed or integrated, or has more than ``max_faces``
+        faces (also on a cache hit: the cache never changes what is accepted).
+    """
+    timer = timer if timer is not None else StageTimes()
+    key = None
+    if cache is not None and cache.enabled:
+        with timer.stage("cache"):
+            key = file_entry_key(path, max_mesh_bytes(max_faces), cache.digests)
+            hit = cache.get(key) if key is not None else None
+        if hit is not None:
+            found, faces = hit
+            if faces > max_faces:
+                raise too_many_faces(path, faces, max_faces)
+            if isinstance(found, MeshError):
+                raise MeshError(found.cause)
+            return found
+    with timer.stage("mesh read"):
+        mesh = load_mesh(path, max_faces)
+    try:
+        found: MeshSolids | MeshError = integrate_mesh(mesh, timer)
+    except MeshError as exc:
+        found = exc
+    if cache is not None and key is not None and cacheable(found, path):
+        with timer.stage("cache"):
+            cache.put(key, found, len(mesh.faces))
+    if isinstance(found, MeshError):
+        raise found
+    return found
+
+
+def cacheable(outcome: MeshSolids | Exception, path: Path) -> bool:
+    """Solids, or a repair error that depends on the bytes only (names no path)."""
+    if isinstance(outcome, MeshSolids):
+        return True
+    return (isinstance(outcome, MeshError) and outcome.file is None
+            and str(path) not in outcome.cause and path.name not in outcome.cause)
+
+
+def fresh(exc: Exception) -> Exception:
+    """A new exception equal to ``exc`` with its own attributes (context is added per use).
+
+    ``copy.copy`` is not enough: libraries such as tblib (loaded by dask) change how
+    exceptions reduce, and the copy may then share its ``__dict__``.
+    """
+    new = copy.copy(exc)
+    new.__dict__ = dict(exc.__dict__)
+    return new
 
 
 class MeshLibrary:
     """Mesh solids by URI, memoised by resolved file path for the life of the object.
 
     One library is shared by all links of a run, so a mesh referenced by several links
-    (left and right legs, mirrored parts) is read and integrated once.
+    (left and right legs, mirrored parts) is read and integrated once; a mesh that cannot
+    be used fails once and its error is repeated (results and errors computed by other
+    processes are handed in with :meth:`seed`). With a :class:`SolidsCache`, results
+    also persist between runs. ``timer`` collects the mesh stages' wall time.
     """
 
     def __init__(
         self,
         package_dirs: Mapping[str, Path] | None = None,
         max_faces: int = DEFAULT_MAX_FACES,
+        cache: SolidsCache | None = None,
+        timer: StageTimes | None = None,
     ) -> None:
         self.package_dirs = dict(package_dirs or {})
         self.max_faces = max_faces
-        self._memo: dict[Path, MeshSolids] = {}
+        self.cache = cache
+        self.timer = timer if timer is not None else StageTimes()
+        self._memo: dict[Path, MeshSolids | Exception] = {}
+        self._resolved: dict[tuple[str, Path], Path | MeshError] = {}
+        #: When a list, every successful :meth:`resolve` appends (uri, urdf_dir, path):
+        #: what a file's result depends on (:mod:`urdfinertia.file_cache`).
+        self.trace: list[tuple[str, str, str]] | None = None
 
     def resolve(self, uri: str, urdf_dir: Path) -> Path:
-        return resolve_mesh_path(uri, urdf_dir, self.package_dirs)
+        """The file ``uri`` names, memoised: package lookups walk up folders and read files."""
+        key = (uri, urdf_dir)
+        found = self._resolved.get(key)
+        if found is None:
+            try:
+                found = resolve_mesh_path(uri, urdf_dir, self.package_dirs)
+            except MeshError as exc:
+                found = exc
+            self._resolved[key] = found
+        if isinstance(found, MeshError):
+            raise fresh(found)
+        if self.trace is not None:  # absolute: the record must not depend on the cwd
+            self.trace.append((uri, str(urdf_dir.resolve()), str(found.resolve())))
+        return found
+
+    def seed(self, path: Path, outcome: MeshSolids | Exception) -> None:
+        """Record a result computed elsewhere (another process) for the file at ``path``."""
+        self._memo[Path(path).resolve()] = outcome
+
+    def known(self, path: Path) -> bool:
+        return Path(path).resolve() in self._memo
 
     def solids(self, path: Path) -> MeshSolids:
         """Unscaled solids of the mesh file at ``path``."""
@@ -36,10 +148,13 @@ class MeshLibrary:
         found = self._memo.get(key)
         if found is None:
             try:
-                found = mesh_solids(load_mesh(key, self.max_faces))
-            except MeshError as exc:
-                if exc.file is None:
-                    exc.file = str(path)
-                raise
+                found = mesh_file_solids(key, self.max_faces, self.cache, self.timer)
+            except Exception as exc:  # noqa: BLE001 - bugs too are repeated like any failure
+                found = exc
             self._memo[key] = found
+        if isinstance(found, Exception):
+            exc = fresh(found)  # callers add context to the exception they get
+            if isinstance(exc, MeshError) and exc.file is None:
+                exc.file = str(path)
+            raise exc
         return found
