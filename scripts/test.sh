@@ -3,6 +3,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup_venv.sh
+.venv/bin/ruff check src tests scripts
 set +e
 .venv/bin/python -m pytest -n 2 -q "$@"
 rc=$?

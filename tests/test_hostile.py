@@ -284,9 +284,6 @@ def test_missing_mesh(workdir, capsys):
                    "gone.stl")
 
 
-@pytest.mark.xfail(strict=True, reason="meshlib/batch set a MeshError's file to the mesh "
-                   "path while parts sets the line to the URDF's: 'mesh.stl:15' points at "
-                   "the wrong file (reported to the lead)")
 def test_mesh_content_error_names_urdf_file_and_line(workdir, capsys):
     (workdir / "bad.obj").write_bytes(b"v 0 0 0\nv 1 0 0\nf 1 2 99\n")
     urdf = with_mesh(workdir, "bad.obj")

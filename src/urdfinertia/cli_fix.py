@@ -25,6 +25,19 @@ def package_dir(text: str) -> tuple[str, Path]:
     return name, Path(path)
 
 
+#: Upper bound of --density, kg/m^3: the densest element (osmium) is 22,590; a larger value
+#: is a unit slip (g/cm^3 read as kg/m^3 goes the other way, but 1e6+ is never a material).
+MAX_DENSITY = 1e6
+
+
+def density_value(text: str) -> float:
+    value = positive_float(text)
+    if value > MAX_DENSITY:
+        raise argparse.ArgumentTypeError(f"{text} kg/m^3 is denser than any material "
+                                         f"(limit {MAX_DENSITY:g})")
+    return value
+
+
 def positive_float(text: str) -> float:
     try:
         value = float(text)
@@ -43,7 +56,7 @@ def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mass", choices=MASS_MODES, default="keep",
                    help="keep: keep a link's existing positive mass and take CoM and tensor "
                         "from the geometry; density: mass = density x volume (default: keep)")
-    p.add_argument("--density", type=positive_float, default=1000.0, metavar="KG_PER_M3",
+    p.add_argument("--density", type=density_value, default=1000.0, metavar="KG_PER_M3",
                    help="density for links without mass or with --mass density "
                         "(kg/m^3, default 1000)")
     p.add_argument("--package-dir", type=package_dir, action="append", default=[],
@@ -122,9 +135,7 @@ def run(args: argparse.Namespace) -> int:
         console = Console(stderr=args.output is None and not args.in_place, width=160)
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
     if args.output is None and not args.in_place:
-        if args.quiet or args.json is not None:
-            return 0
-        sys.stdout.buffer.write(result.output)
+        sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
     return 0
 
 

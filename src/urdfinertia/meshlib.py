@@ -154,7 +154,10 @@ class MeshLibrary:
             self._memo[key] = found
         if isinstance(found, Exception):
             exc = fresh(found)  # callers add context to the exception they get
-            if isinstance(exc, MeshError) and exc.file is None:
-                exc.file = str(path)
+            if isinstance(exc, MeshError) and path.name not in exc.cause:
+                # the file/line context is the URDF's (added by the caller); name the mesh
+                # in the cause instead
+                exc.cause = f"mesh {path}: {exc.cause}"
+                exc.args = (exc.cause,)
             raise exc
         return found

@@ -6,6 +6,7 @@ remote host, FIFOs and devices are refused, so nothing is fetched and no read ca
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 import stat
@@ -46,6 +47,17 @@ def find_package(name: str, urdf_dir: Path, package_dirs: Mapping[str, Path]) ->
     return None
 
 
+@functools.lru_cache(maxsize=4096)
+def _find_package_memo(name: str, urdf_dir: Path, package_dirs: tuple[tuple[str, Path], ...],
+                       ros_package_path: str, ament_prefix_path: str) -> Path | None:
+    """:func:`find_package`, memoised: one lookup per package and folder, not per mesh.
+
+    The environment variables are part of the key so that a changed search path is seen.
+    """
+    del ros_package_path, ament_prefix_path  # read again inside; here only for the key
+    return find_package(name, urdf_dir, dict(package_dirs))
+
+
 def _is_package(folder: Path, name: str) -> bool:
     if folder.name == name:
         return True
@@ -81,7 +93,9 @@ def resolve_mesh_path(
             name, _, rel = rel.partition("/")
         if not _PACKAGE_NAME_OK.match(name):
             raise MeshError(f"mesh URI {uri!r} does not name a valid ROS package")
-        root = find_package(name, urdf_dir, package_dirs)
+        root = _find_package_memo(name, urdf_dir, tuple(sorted(package_dirs.items())),
+                                  os.environ.get("ROS_PACKAGE_PATH", ""),
+                                  os.environ.get("AMENT_PREFIX_PATH", ""))
         if root is None:
             raise MeshError(
                 f"cannot resolve package '{name}' in {uri!r}: pass --package-dir {name}=PATH "
