@@ -21,12 +21,19 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_common_geometry_arguments(p)
     p.add_argument("--json", action="store_true",
                    help="print the breakdown as JSON on stdout instead of a table")
+    p.add_argument("--plot", type=Path, metavar="PATH.png",
+                   help="also write a PNG: each element's share of the mass and of each "
+                        "principal moment")
 
 
 def run(args: argparse.Namespace) -> int:
     options = options_from_args(args)
     robot, _ = read_urdf(args.urdf)
     breakdown = explain_link(robot, args.link, options)
+    if args.plot is not None:
+        from .explain_plot import plot_breakdown
+
+        plot_breakdown(breakdown, args.plot)
     if args.json:
         sys.stdout.write(json.dumps(breakdown_dict(breakdown), indent=2) + "\n")
         return 0
