@@ -7,19 +7,10 @@ import sys
 from pathlib import Path
 
 from .atomic import atomic_write_bytes
+from .batch_cli import positive_int
 from .cli_fix import add_common_geometry_arguments, options_from_args
 from .report import build_report
 from .report_scene import DEFAULT_VIEW_FACES, VIEW_MODES
-
-
-def _face_budget(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1: {text!r}")
-    return value
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -30,7 +21,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--view", choices=VIEW_MODES, default="visual",
                    help="geometry drawn in the 3-D view (a link without it shows the other; "
                         "default visual)")
-    p.add_argument("--view-faces", type=_face_budget, default=DEFAULT_VIEW_FACES, metavar="N",
+    p.add_argument("--view-faces", type=positive_int, default=DEFAULT_VIEW_FACES, metavar="N",
                    help="face budget of the 3-D view; meshes are decimated to share it "
                         f"(display only, default {DEFAULT_VIEW_FACES})")
 

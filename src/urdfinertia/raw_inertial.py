@@ -20,12 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import UrdfError
 from .massprops import MassProperties
 from .rotation import rpy_matrix
 from .tensor_repair import TensorDiagnosis, diagnose_tensor
 from .urdf_model import Inertial, Origin, Robot
-from .urdf_read import parse_xml, robot_from_element
+from .urdf_read import parse_xml, read_urdf_bytes, robot_from_element
 
 _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 
@@ -76,11 +75,7 @@ class RawInertial:
 
 def read_urdf_lenient(path: str | Path) -> tuple[Robot, bytes]:
     """Like :func:`urdf_read.read_urdf`, but non-finite inertial values are kept as NaN/inf."""
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise UrdfError(f"cannot read: {exc.strerror or exc}", file=path) from None
+    data = read_urdf_bytes(path)
     return robot_from_bytes_lenient(data, path), data
 
 

@@ -80,13 +80,17 @@ def parse_xml(data: bytes, file: str | Path) -> etree._Element:
     return root
 
 
-def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
-    """Read ``path`` and return the robot model and the file's original bytes."""
-    path = Path(path)
+def read_urdf_bytes(path: str | Path) -> bytes:
+    """The file's bytes, or a :class:`UrdfError` naming it."""
     try:
-        data = path.read_bytes()
+        return Path(path).read_bytes()
     except OSError as exc:
         raise UrdfError(f"cannot read: {exc.strerror or exc}", file=path) from None
+
+
+def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
+    """Read ``path`` and return the robot model and the file's original bytes."""
+    data = read_urdf_bytes(path)
     return robot_from_bytes(data, path), data
 
 
