@@ -124,7 +124,7 @@ def test_batch_output_equals_the_single_file_command(tree, tmp_path):
 
 
 @contextlib.contextmanager
-def threads(settings):
+def threads(jobs, dask):
     with cf.ThreadPoolExecutor(2) as pool:
         yield pool
 

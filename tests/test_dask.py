@@ -7,8 +7,9 @@ from pathlib import Path
 import pytest
 import trimesh
 
-from urdfinertia.batch import BatchSettings, ClusterError, collect_jobs, connect_dask, run_batch
+from urdfinertia.batch import BatchSettings, collect_jobs, run_batch
 from urdfinertia.cli import main
+from urdfinertia.executors import ClusterError, connect_dask
 from urdfinertia.fix import FixOptions
 
 distributed = pytest.importorskip("distributed")

@@ -11,19 +11,17 @@ cache or on the engine. One file's failure is recorded and the run goes on.
 from __future__ import annotations
 
 import concurrent.futures as cf
-import contextlib
 import dataclasses
 import hashlib
-import multiprocessing
-import threading
 import time
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from .atomic import atomic_write_bytes, write_in_place
 from .cache import DEFAULT_MAX_BYTES, SolidsCache, file_entry_key
 from .errors import MeshError, OutputError, UrdfError, UrdfInertiaError
+from .executors import open_executor, submit
 from .file_cache import CachedResult, FileResults
 from .fix import FixOptions, fix_robot, select_geometry
 from .mesh_io import load_mesh, max_mesh_bytes
@@ -36,10 +34,6 @@ from .urdf_read import read_urdf
 
 #: progress(kind, done, total) with kind "meshes" or "files".
 ProgressHook = Callable[[str, int, int], None]
-
-
-class ClusterError(UrdfInertiaError):
-    """The Dask cluster cannot be used (optional dependency missing, no scheduler)."""
 
 
 @dataclass(frozen=True)
@@ -250,53 +244,6 @@ def fix_file_task(source: str, options: FixOptions,
     return fix_with_library(Path(source), options, meshes, details)
 
 
-# ---------------------------------------------------------------------------- engines
-
-def _mp_context() -> multiprocessing.context.BaseContext:
-    """fork when it is safe (no threads to inherit), else forkserver or spawn."""
-    methods = multiprocessing.get_all_start_methods()
-    if "fork" in methods and threading.active_count() == 1:
-        return multiprocessing.get_context("fork")
-    if "forkserver" in methods:
-        return multiprocessing.get_context("forkserver")
-    return multiprocessing.get_context("spawn")
-
-
-@contextlib.contextmanager
-def open_executor(settings: BatchSettings) -> Iterator[cf.Executor | None]:
-    """None (this process), a process pool, or a Dask cluster's executor."""
-    if settings.dask:
-        client = connect_dask(settings.dask)
-        try:
-            yield client.get_executor(pure=False)
-        finally:
-            client.close()
-    elif settings.jobs > 1:
-        pool = cf.ProcessPoolExecutor(max_workers=settings.jobs, mp_context=_mp_context())
-        try:
-            yield pool
-        except BaseException:
-            pool.shutdown(wait=True, cancel_futures=True)
-            raise
-        pool.shutdown(wait=True)
-    else:
-        yield None
-
-
-def connect_dask(address: str, timeout: str = "20s"):
-    """A ``distributed.Client`` for the scheduler at ``address``."""
-    try:
-        from distributed import Client
-    except ImportError:
-        raise ClusterError("--dask needs the optional dependency: "
-                           "pip install 'urdfinertia[dask]'") from None
-    try:
-        return Client(address, timeout=timeout)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise ClusterError(f"cannot connect to the Dask scheduler at {address!r}: "
-                           f"{exc}") from None
-
-
 class _Run:
     """State of one batch: which meshes are known, which files wait for which meshes."""
 
@@ -376,7 +323,7 @@ class _Run:
         # largest first: the long tasks start early and the end of the run stays busy
         groups.sort(key=lambda g: (-_size(g[0]), str(g[0])))
         for group in groups:
-            fut = _submit(pool, mesh_task, str(group[0]), self.options.max_faces)
+            fut = submit(pool, mesh_task, str(group[0]), self.options.max_faces)
             self.futures[fut] = ("mesh", group)
         for i, missing in enumerate(self.pending):
             if not missing:
@@ -417,15 +364,6 @@ def _size(path: Path) -> int:
         return 0
 
 
-def _submit(pool: cf.Executor, fn, *args) -> cf.Future:
-    try:
-        return pool.submit(fn, *args)
-    except Exception as exc:  # noqa: BLE001 - a broken pool fails the remaining tasks
-        fut: cf.Future = cf.Future()
-        fut.set_exception(exc)
-        return fut
-
-
 def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: BatchSettings,
                      cache: SolidsCache | None = None,
                      progress: ProgressHook | None = None) -> MeshLibrary:
@@ -435,7 +373,7 @@ def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: Batch
     otherwise they are computed lazily by the library itself.
     """
     library = MeshLibrary(options.package_dirs, options.max_faces, cache)
-    with open_executor(settings) as pool:
+    with open_executor(settings.jobs, settings.dask) as pool:
         if pool is None:
             return library
         run = _Run(options, settings, cache, progress)
@@ -491,7 +429,7 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
                         outcome.document))
         finish(i, outcome)
 
-    with open_executor(settings) as pool:
+    with open_executor(settings.jobs, settings.dask) as pool:
         if not todo:
             pass
         elif pool is None:
@@ -511,7 +449,7 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
                 if outcomes[i] is not None:
                     return  # taken from the whole-file cache
                 seeds = {str(p): run.meshes[p] for p in needs[i]}
-                fut = _submit(pool, fix_file_task, str(jobs[i].source), options, seeds,
+                fut = submit(pool, fix_file_task, str(jobs[i].source), options, seeds,
                               settings.details)
                 run.futures[fut] = ("file", i)
 
