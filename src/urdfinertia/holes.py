@@ -22,6 +22,7 @@ implied by the mean angle ``theta`` between cap and rim faces (``D`` the loop's 
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,6 +71,8 @@ class HoleCaps:
 PLANAR_RTOL = 1e-9
 #: Largest simple loop (vertices) triangulated by dynamic programming; larger ones get fans.
 TRIANGULATE_MAX = 40
+#: Candidate cap triangles costed at once (polygons x triangles), to bound memory.
+TRIANGULATE_BATCH = 200_000
 #: Weight of a cap triangle's relative area against its rim angle (radians): a tie-break.
 AREA_WEIGHT = 1e-3
 
@@ -149,6 +152,17 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     return new_vertices, np.concatenate([faces, cap_faces]), caps
 
 
+def cap_with_fans(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The surface of ``close_holes(vertices, faces, triangulate=False)``, without the
+    statistics of its caps: a fan about every loop's perimeter centroid."""
+    edges = boundary_edges(faces)
+    if len(edges) == 0:
+        return vertices, faces
+    _, loop = boundary_cycles(vertices, faces, edges)
+    fan_v, fan_f, _ = _fans(vertices, edges, loop, int(loop.max() + 1))
+    return fan_v, np.concatenate([faces, fan_f.astype(np.int64)])
+
+
 def _fans(vertices: np.ndarray, edges: np.ndarray, loop: np.ndarray, n_loops: int,
           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Fan caps about each loop's perimeter centroid (appended as vertex ``n + loop``)."""
@@ -211,20 +225,25 @@ def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
         Corner positions of each cap triangle, oriented against the boundary.
     """
     n_poly, s, _ = points.shape
+    # every candidate triangle (i < k < j) is costed once, all in one vectorised call
+    tri_i, tri_k, tri_j, plan = _interval_plan(s)
+    step = max(1, TRIANGULATE_BATCH // len(tri_i))
+    if n_poly > step:  # bound the temporaries: the polygons are independent
+        return np.concatenate([_best_triangulation(points[a:a + step], rim[a:a + step])
+                               for a in range(0, n_poly, step)])
     scale = np.maximum(np.sum(np.linalg.norm(np.diff(points, axis=1), axis=2), axis=1), 1e-300)
+    tri_cost = _triangle_cost(points, rim, tri_i, tri_k, tri_j, scale, s)
     cost = np.full((n_poly, s, s), np.inf)
     choice = np.zeros((n_poly, s, s), dtype=np.int64)
     idx = np.arange(s - 1)
     cost[:, idx, idx + 1] = 0.0
-    for gap in range(2, s):  # intervals (i, j = i + gap): all i, splits, polygons at once
-        i = np.arange(s - gap)[:, None]
-        j = i + gap
-        k = i + np.arange(1, gap)[None, :]
-        i, j, k = np.broadcast_arrays(i, j, k)
-        c = cost[:, i, k] + cost[:, k, j] + _triangle_cost(points, rim, i, k, j, scale, s)
+    flat_cost = cost.reshape(n_poly, s * s)  # views: one flat index per lookup
+    flat_choice = choice.reshape(n_poly, s * s)
+    for ik, kj, tri, ij, first_k in plan:  # by interval width: all i, splits, polygons
+        c = flat_cost[:, ik] + flat_cost[:, kj] + tri_cost[:, tri]
         best = np.argmin(c, axis=2)
-        cost[:, i[:, 0], j[:, 0]] = np.take_along_axis(c, best[..., None], axis=2)[..., 0]
-        choice[:, i[:, 0], j[:, 0]] = i[:, 0][None, :] + 1 + best
+        flat_cost[:, ij] = np.take_along_axis(c, best[..., None], axis=2)[..., 0]
+        flat_choice[:, ij] = first_k + best
     # unfold the choices breadth-first: every interval of width >= 2 yields one triangle
     poly = np.arange(n_poly)
     lo = np.zeros(n_poly, dtype=np.int64)
@@ -241,6 +260,33 @@ def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
     flat = flat[np.argsort(flat[:, 0], kind="stable")]
     tris = flat[:, 1:].reshape(n_poly, s - 2, 3)
     return tris
+
+
+@functools.lru_cache(maxsize=TRIANGULATE_MAX + 1)
+def _interval_plan(s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple]]:
+    """Index arrays of the interval programme on an ``s``-gon (the same for every loop).
+
+    Returns the corner positions ``i < k < j`` of every candidate triangle, and per
+    interval width ``gap = 2 .. s-1`` the flat ``(s, s)`` indices of the sub-intervals
+    ``(i, k)`` and ``(k, j)``, each split's triangle, the intervals ``(i, j)`` and
+    their first split ``i + 1``.
+    """
+    r = np.arange(s)
+    tri_i, tri_k, tri_j = (t.astype(np.int64) for t in np.nonzero(
+        (r[:, None, None] < r[None, :, None]) & (r[None, :, None] < r[None, None, :])))
+    slot = np.zeros((s, s, s), dtype=np.int64)
+    slot[tri_i, tri_k, tri_j] = np.arange(len(tri_i))
+    plan = []
+    for gap in range(2, s):
+        i = np.arange(s - gap)[:, None]
+        j = i + gap
+        k = i + np.arange(1, gap)[None, :]
+        i, j, k = np.broadcast_arrays(i, j, k)
+        plan.append((i * s + k, k * s + j, slot[i, k, j], i[:, 0] * s + j[:, 0],
+                     i[:, 0][None, :] + 1))
+    for a in (tri_i, tri_k, tri_j, *(x for step in plan for x in step)):
+        a.setflags(write=False)  # shared by every call through the cache
+    return tri_i, tri_k, tri_j, plan
 
 
 def _triangle_cost(points: np.ndarray, rim: np.ndarray, i: np.ndarray, k: np.ndarray,

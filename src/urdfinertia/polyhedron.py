@@ -13,6 +13,12 @@ from numpy.typing import ArrayLike
 
 from .massprops import MassProperties
 
+#: The contraction orders ``optimize=True`` finds for the two second-moment sums, for
+#: every face count (``(x x^T)`` first, then ``det``; ``det s`` first), given so that each
+#: call does not search for them again.
+_SECOND_PATH = ["einsum_path", (1, 2), (0, 1)]
+_CENTRE_PATH = ["einsum_path", (0, 1), (0, 1)]
+
 
 def used_vertices(n: int, faces: np.ndarray) -> np.ndarray:
     """(n,) bool: which of ``n`` vertices the faces use (O(n), no sort)."""
@@ -60,8 +66,8 @@ def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.nd
     # summed over faces without building (m, 3, 3) intermediates.
     volume = float(det.sum()) / 6.0
     first_c = det @ total / 24.0
-    second_c = (np.einsum("f,fki,fkj->ij", det, tri, tri, optimize=True)
-                + np.einsum("f,fi,fj->ij", det, total, total, optimize=True)) / 120.0
+    second_c = (np.einsum("f,fki,fkj->ij", det, tri, tri, optimize=_SECOND_PATH)
+                + np.einsum("f,fi,fj->ij", det, total, total, optimize=_CENTRE_PATH)) / 120.0
     # shift moments back from the centroid to the origin
     first_o = first_c + volume * centre
     second_o = (second_c + np.outer(first_c, centre) + np.outer(centre, first_c)

@@ -26,17 +26,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import MeshError
-from .holes import HoleCaps, close_holes
+from .holes import HoleCaps, cap_with_fans, close_holes
 from .mesh_io import TriangleMesh
 from .meshgraph import (
+    EdgeTable,
     cancel_duplicate_faces,
     consistent_orientation,
     drop_degenerate,
+    edge_table,
     face_components,
+    is_closed_oriented,
     weld_vertices,
 )
 from .polyhedron import face_volumes, used_vertices
-from .winding import winding_numbers
+from .winding import closed_winding_numbers
 
 #: Vertices closer than this fraction of the bounding-box diagonal are merged.
 WELD_RTOL = 1e-6
@@ -99,10 +102,11 @@ def repair_mesh(mesh: TriangleMesh) -> RepairedMesh:
     """
     vertices, faces = _checked(mesh)
     notes: list[str] = []
-    size = float(np.linalg.norm(np.ptp(vertices[used_vertices(len(vertices), faces)], axis=0)))
+    used = vertices[used_vertices(len(vertices), faces)]
+    size = float(np.linalg.norm(used.max(axis=0) - used.min(axis=0)))
     if not size > 0:
         raise MeshError("mesh is a single point: it encloses no volume")
-    n_in = int(used_vertices(len(vertices), faces).sum())
+    n_in = len(used)
     vertices, faces = weld_vertices(vertices, faces, WELD_RTOL * size)
     if len(vertices) < n_in:
         notes.append(f"merged {n_in - len(vertices)} duplicate vertices")
@@ -117,14 +121,21 @@ def repair_mesh(mesh: TriangleMesh) -> RepairedMesh:
         notes.append(f"removed {cancelled} pairs of coincident opposite triangles")
     if len(faces) == 0:
         raise MeshError("mesh has no non-degenerate triangles: it encloses no volume")
-    oriented, flipped, non_orientable = _orient(vertices, faces)
+    table = edge_table(faces)
+    # closed and oriented already (most CAD exports): no flips, no caps, and the edge
+    # components are both the orientation patches and the shells
+    known = face_components(faces, table) if is_closed_oriented(table) else None
+    oriented, flipped, non_orientable = _orient(vertices, faces, table, known)
     if flipped:
         notes.append(f"reoriented {flipped} of {len(faces)} faces outward")
     if non_orientable:
         notes.append(f"{non_orientable} faces lie on a non-orientable surface: "
                      "volume is approximate")
-    closed_v, closed_f, caps = close_holes(vertices, oriented)
-    shells, flat = _split(closed_v, closed_f, caps)
+    if known is not None:  # nothing to cap; turning whole shells keeps the components
+        shells, flat = _split(vertices, oriented, HoleCaps.none(), known)
+    else:
+        closed_v, closed_f, caps = close_holes(vertices, oriented)
+        shells, flat = _split(closed_v, closed_f, caps)
     if flat:
         notes.append(f"ignored {flat} pieces enclosing no volume (flat or stray triangles)")
     if not shells:
@@ -156,7 +167,8 @@ def _checked(mesh: TriangleMesh) -> tuple[np.ndarray, np.ndarray]:
     return vertices, faces
 
 
-def _orient(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, int, int]:
+def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
+            closed: tuple[int, np.ndarray] | None) -> tuple[np.ndarray, int, int]:
     """Faces oriented consistently per patch and outward per closed patch.
 
     Each orientation patch is closed on its own (private vertices, so loops never cross
@@ -165,19 +177,25 @@ def _orient(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, int, i
     solid-in-solid). Patches enclosing no volume (stray triangles, sheets) keep the
     orientation most of their input faces had, inverted if the largest patch was.
 
+    ``table`` is ``edge_table(faces)``. ``closed``, when every edge has two opposite
+    faces (:func:`is_closed_oriented`), is ``face_components(faces)``: then no face
+    flips, the patches are those components and each is closed already, so the private
+    copies are skipped (they would hold the same coordinates, hence the same sums).
+
     Returns the oriented faces, how many input faces were reversed and how many lie on
     non-orientable patches.
     """
-    flip, patch, non_orientable = consistent_orientation(faces)
-    propagated = np.where(flip[:, None], faces[:, ::-1], faces)
-    n = len(vertices)
+    if closed is not None:
+        flip = np.zeros(len(faces), dtype=bool)
+        non_orientable = flip
+        _, patch = closed
+        propagated = faces
+        own_v, own_f, face_patch = vertices, faces, patch
+    else:
+        flip, patch, non_orientable = consistent_orientation(faces, table)
+        propagated = np.where(flip[:, None], faces[:, ::-1], faces)
+        own_v, own_f, face_patch = _patch_copies(vertices, propagated, patch)
     n_patch = int(patch.max() + 1)
-    key = patch[:, None] * n + propagated
-    uniq, local = np.unique(key, return_inverse=True)
-    local = local.reshape(-1, 3)
-    own_v, own_f, _ = close_holes(vertices[uniq % n], local, triangulate=False)
-    vertex_patch = np.concatenate([uniq // n, np.zeros(len(own_v) - len(uniq), np.int64)])
-    face_patch = np.concatenate([patch, vertex_patch[own_f[len(local):, 0]]])
     centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
     volume = np.bincount(face_patch, weights=face_volumes(own_v[own_f] - centre),
                          minlength=n_patch)
@@ -198,6 +216,18 @@ def _orient(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, int, i
     oriented = np.where(reverse[:, None], propagated[:, ::-1], propagated)
     flipped = int(np.count_nonzero(flip ^ reverse))
     return oriented, flipped, int(np.count_nonzero(non_orientable))
+
+
+def _patch_copies(vertices: np.ndarray, faces: np.ndarray, patch: np.ndarray,
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each patch on private vertices, capped with fans: vertices, faces, patch per face."""
+    n = len(vertices)
+    key = patch[:, None] * n + faces
+    uniq, local = np.unique(key, return_inverse=True)
+    local = local.reshape(-1, 3)
+    own_v, own_f = cap_with_fans(vertices[uniq % n], local)
+    vertex_patch = np.concatenate([uniq // n, np.zeros(len(own_v) - len(uniq), np.int64)])
+    return own_v, own_f, np.concatenate([patch, vertex_patch[own_f[len(local):, 0]]])
 
 
 def _nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
@@ -227,7 +257,7 @@ def _nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
         ps = np.flatnonzero(cand[:, q])
         probe = np.array([_probe_point(tri[order[bounds[p]:bounds[p + 1]]]) for p in ps])
         mine = order[bounds[q]:bounds[q + 1]]
-        w = winding_numbers(probe, vertices, faces[mine])
+        w = closed_winding_numbers(probe, vertices, faces[mine])
         inside[ps, q] = np.abs(w) > 0.5
     for p in live[np.argsort(-size[live])]:  # containers are larger: settled first
         qs = np.flatnonzero(inside[p])
@@ -245,9 +275,12 @@ def _probe_point(triangles: np.ndarray) -> np.ndarray:
 
 
 def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
-           ) -> tuple[list[_Shell], int]:
-    """Edge-connected closed shells; those enclosing no volume are counted and dropped."""
-    count, label = face_components(faces)
+           known: tuple[int, np.ndarray] | None = None) -> tuple[list[_Shell], int]:
+    """Edge-connected closed shells; those enclosing no volume are counted and dropped.
+
+    ``known`` is ``face_components(faces)`` when the caller has it already.
+    """
+    count, label = known if known is not None else face_components(faces)
     vertex_label = np.zeros(len(vertices), dtype=np.int64)
     vertex_label[faces.reshape(-1)] = np.repeat(label, 3)
     centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
@@ -258,12 +291,19 @@ def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
     solid = np.abs(volume) > FLAT_RTOL * area ** 1.5
     order = np.argsort(label, kind="stable")
     bounds = np.searchsorted(label[order], np.arange(count + 1))
+    # each shell's sorted vertices and its faces re-indexed into them, for all shells at
+    # once: (shell, vertex) keys sort shell by shell, vertices ascending within
+    n = len(vertices)
+    key = label[order][:, None] * n + faces[order]
+    uniq, local = np.unique(key, return_inverse=True)
+    local = local.reshape(-1, 3)
+    vbounds = np.searchsorted(uniq, np.arange(count + 1) * n)
     loop_label = vertex_label[caps.vertex]
     shells = []
-    for c in np.flatnonzero(solid):  # one iteration per shell, vectorised inside
-        used, local = np.unique(faces[order[bounds[c]:bounds[c + 1]]], return_inverse=True)
-        shells.append(_Shell(vertices[used], local.reshape(-1, 3), float(volume[c]),
-                             caps.subset(loop_label == c)))
+    for c in np.flatnonzero(solid):  # one iteration per shell, slicing only
+        used = uniq[vbounds[c]:vbounds[c + 1]] - c * n
+        shells.append(_Shell(vertices[used], local[bounds[c]:bounds[c + 1]] - vbounds[c],
+                             float(volume[c]), caps.subset(loop_label == c)))
     return shells, int(np.count_nonzero(~solid))
 
 
@@ -274,14 +314,25 @@ def _group(shells: list[_Shell]) -> tuple[list[tuple[int, list[int]]], int]:
     one inside none is a body the wrong way round, turned outward.
     """
     positive = [i for i, s in enumerate(shells) if s.volume > 0]
+    negative = [i for i, s in enumerate(shells) if s.volume < 0]
     cavities: dict[int, list[int]] = {i: [] for i in positive}
+    lo = np.array([s.vertices.min(axis=0) for s in shells]).reshape(-1, 3)
+    hi = np.array([s.vertices.max(axis=0) for s in shells]).reshape(-1, 3)
+    pos, neg = np.array(positive, dtype=np.int64), np.array(negative, dtype=np.int64)
+    boxed = (np.all(lo[neg][:, None] >= lo[pos][None], axis=2)
+             & np.all(hi[neg][:, None] <= hi[pos][None], axis=2))  # (cavity, container)
+    inside = np.zeros_like(boxed)
+    probes = {c: _probe_point(shells[c].vertices[shells[c].faces])
+              for c in neg[boxed.any(axis=1)].tolist()}
+    for j in np.flatnonzero(boxed.any(axis=0)):  # one winding evaluation per container
+        rows = np.flatnonzero(boxed[:, j])
+        q = shells[pos[j]]
+        w = closed_winding_numbers(np.array([probes[c] for c in neg[rows].tolist()]),
+                                   q.vertices, q.faces)
+        inside[rows, j] = np.abs(w) > 0.5
     loose = 0
-    for c in (i for i, s in enumerate(shells) if s.volume < 0):
-        probe = _probe_point(shells[c].vertices[shells[c].faces])
-        home = [q for q in positive
-                if np.all(shells[c].vertices.min(axis=0) >= shells[q].vertices.min(axis=0))
-                and np.all(shells[c].vertices.max(axis=0) <= shells[q].vertices.max(axis=0))
-                and abs(winding_numbers(probe, shells[q].vertices, shells[q].faces)[0]) > 0.5]
+    for row, c in enumerate(negative):
+        home = pos[inside[row]].tolist()
         if home:
             cavities[min(home, key=lambda q: shells[q].volume)].append(c)
         else:
