@@ -8,8 +8,6 @@ no Python loop visits a triangle. A mesh here is a pair ``vertices (n, 3) float`
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import connected_components
 
 from .polyhedron import used_vertices
 
@@ -65,6 +63,10 @@ def components(n: int, a: np.ndarray, b: np.ndarray) -> tuple[int, np.ndarray]:
     """Connected components of the undirected graph on ``n`` nodes with edges ``a[i]-b[i]``."""
     if n == 0:
         return 0, np.zeros(0, dtype=np.int64)
+    # imported here: scipy.sparse costs ~0.25 s to import, which a warm (cached) run skips
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import connected_components
+
     # float64 CSR is the form connected_components works on: built directly, no copies
     graph = csr_matrix((np.ones(len(a)), (a, b)), shape=(n, n))
     count, labels = connected_components(graph, directed=False)
