@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -256,3 +257,26 @@ def test_a_bad_digest_memo_is_ignored(tmp_path, text):
     (tmp_path / "d.json").write_text(text)
     assert digests.FileDigests(tmp_path / "d.json").digest(mesh, 1000) == \
         digests.content_digest(b"abc")
+
+
+def test_local_imports_text_scan_matches_the_syntax_tree():
+    """The cheap scan finds exactly the relative imports ``ast`` finds, in every module."""
+    import ast
+
+    from urdfinertia.cache import local_imports
+
+    def by_ast(source: str) -> set[str]:
+        names: set[str] = set()
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.ImportFrom) and node.level == 1:
+                if node.module:
+                    names.add(node.module.split(".")[0])
+                else:
+                    names.update(alias.name for alias in node.names)
+        return names
+
+    package = Path(local_imports.__code__.co_filename).parent
+    for module in package.glob("*.py"):
+        source = module.read_text(encoding="utf-8")
+        assert local_imports(source) == by_ast(source), module.name
+    assert local_imports("from . import a, b as c\nfrom .x import (y,\n z)\n") == {"a", "b", "x"}

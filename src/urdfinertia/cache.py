@@ -19,12 +19,12 @@ by deleting the least recently used entries (by modification time; a hit touches
 
 from __future__ import annotations
 
-import ast
 import dataclasses
 import functools
 import hashlib
 import json
 import os
+import re
 import tempfile
 import time
 from collections.abc import Callable
@@ -79,15 +79,22 @@ def algorithm_version() -> str:
 RESULT_MODULES = ("mesh_io", "solids")
 
 
+_RELATIVE_IMPORT = re.compile(r"^[ \t]*from[ \t]+\.([A-Za-z_]\w*)?[ \t]+import[ \t]+"
+                              r"(\([^)]*\)|[^\n#]*)", re.MULTILINE)
+
+
 def local_imports(source: str) -> set[str]:
-    """Names of this package's modules imported by ``source`` (``from .x import ...``)."""
+    """Names of this package's modules imported by ``source`` (``from .x import ...``).
+
+    A text scan, not ``ast.parse``: compiling the sources cost ~0.2 s of every warm run.
+    """
     names: set[str] = set()
-    for node in ast.walk(ast.parse(source)):
-        if isinstance(node, ast.ImportFrom) and node.level == 1:
-            if node.module:
-                names.add(node.module.split(".")[0])
-            else:
-                names.update(alias.name for alias in node.names)
+    for module, imported in _RELATIVE_IMPORT.findall(source):
+        if module:
+            names.add(module)
+        else:  # from . import a, b
+            names.update(n.split(" as ")[0].strip() for n in imported.strip("()").split(",")
+                         if n.strip())
     return names
 
 

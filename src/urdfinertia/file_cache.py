@@ -109,6 +109,7 @@ class FileResults:
         self.options = options
         self.meshes = MeshLibrary(options.package_dirs, options.max_faces)
         self._mesh_keys: dict[str, str | None] = {}
+        self._real: dict[tuple[str, str], str] = {}
         self.keys: dict[Path, tuple[str, bytes]] = {}
         self.hits = 0
 
@@ -137,10 +138,17 @@ class FileResults:
         self.hits += 1
         return found[1], data
 
+    def _real_path(self, uri: str, folder: str) -> str:
+        """The resolved file ``uri`` names, memoised per run (realpath walks the tree)."""
+        key = (uri, folder)
+        if key not in self._real:
+            self._real[key] = str(self.meshes.resolve(uri, Path(folder)).resolve())
+        return self._real[key]
+
     def _still_valid(self, deps: list[list[str]]) -> bool:
         for uri, folder, path, mesh_key in deps:
             try:
-                if str(self.meshes.resolve(uri, Path(folder)).resolve()) != path:
+                if self._real_path(uri, folder) != path:
                     return False
             except UrdfInertiaError:
                 return False
