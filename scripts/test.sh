@@ -4,6 +4,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup_venv.sh
 .venv/bin/ruff check src tests scripts
+# the report's browser tests need Debian's chromium + chromedriver; installing them here,
+# once, avoids two test workers racing for apt's lock (the tests skip only if this fails)
+bash scripts/install_chromium.sh || echo "warning: chromium could not be installed" >&2
 set +e
 .venv/bin/python -m pytest -n 2 -q "$@"
 rc=$?
