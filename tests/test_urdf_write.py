@@ -119,3 +119,12 @@ def test_character_references_in_link_names():
     assert name == "AbC&"
     out = patch_inertials(doc, {name: (body, 0.1)})
     assert robot_from_bytes(out, "x.urdf").link(name).inertial.mass == body.mass
+
+
+def test_references_decode_in_one_pass_like_lxml():
+    body = primitives.sphere(0.1, 1000.0)
+    doc = b'<robot name="r">\n  <link name="a&#38;lt;b&amp;gt;"/>\n</robot>\n'
+    name = robot_from_bytes(doc, "x.urdf").links[0].name
+    assert name == "a&lt;b&gt;"  # what lxml reports
+    out = patch_inertials(doc, {name: (body, 0.1)})
+    assert robot_from_bytes(out, "x.urdf").link(name).inertial.mass == body.mass

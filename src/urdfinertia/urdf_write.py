@@ -11,7 +11,6 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
-from xml.sax.saxutils import unescape
 
 import numpy as np
 
@@ -22,17 +21,26 @@ _TAG = re.compile(
     rb"<(/?)([^\s/>!?]+)((?:\s+[^\s=/>]+\s*=\s*(?:\"[^\"]*\"|'[^']*'))*)\s*(/?)>", re.DOTALL
 )
 _NAME_ATTR = re.compile(rb"(?:^|\s)name\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
-_ENTITIES = {"&quot;": '"', "&apos;": "'"}
-_CHAR_REF = re.compile(r"&#(x[0-9a-fA-F]+|[0-9]+);")
+#: XML's predefined entities (xml.sax.saxutils would import urllib and http on every run)
+_ENTITIES = {"lt": "<", "gt": ">", "quot": '"', "apos": "'", "amp": "&"}
+_REFERENCE = re.compile(r"&(#x[0-9a-fA-F]+|#[0-9]+|lt|gt|quot|apos|amp);")
+
+
+def _decode_reference(match: re.Match[str]) -> str:
+    ref = match.group(1)
+    if ref.startswith("#x"):
+        return chr(int(ref[2:], 16))
+    if ref.startswith("#"):
+        return chr(int(ref[1:]))
+    return _ENTITIES[ref]
 
 
 def _attribute_text(raw: bytes) -> str:
-    """An attribute value as lxml reports it: character and predefined entity refs decoded."""
-    text = _CHAR_REF.sub(
-        lambda m: chr(int(m.group(1)[1:], 16) if m.group(1)[0] == "x" else int(m.group(1))),
-        raw.decode("utf-8"),
-    )
-    return unescape(text, _ENTITIES)
+    """An attribute value as lxml reports it: character and entity references decoded in
+    one pass (so ``&#38;lt;`` stays ``&lt;``)."""
+    return _REFERENCE.sub(_decode_reference, raw.decode("utf-8"))
+
+
 #: Off-diagonal products and CoM components smaller than this fraction of the largest
 #: principal moment (or of the geometry's size) are round-off and written as 0.
 NOISE_RTOL = 1e-12
