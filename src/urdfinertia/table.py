@@ -28,8 +28,11 @@ def fix_table(results: Sequence[LinkResult], title: str) -> Table:
         moments, _ = t.principal()
         parts = r.assembly.parts
         methods = sorted({p.part.method for p in parts})
-        geo = f"{r.geometry}: {len(parts)} part{'s' if len(parts) != 1 else ''}"
-        geo += f" ({', '.join(methods)})"
+        if parts:
+            geo = f"{r.geometry}: {len(parts)} part{'s' if len(parts) != 1 else ''}"
+            geo += f" ({', '.join(methods)})"
+        else:  # --repair-only: the written values, corrected, no geometry involved
+            geo = r.geometry
         table.add_row(
             r.name,
             _g(t.mass),
