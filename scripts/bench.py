@@ -92,7 +92,8 @@ def child_baseline(robots: Path) -> dict:
 
 
 def child_tool(robots: Path, out: Path, jobs: int, cache_dir: Path) -> dict:
-    from urdfinertia.batch import BatchSettings, collect_jobs, run_batch
+    from urdfinertia.batch import BatchSettings, run_batch
+    from urdfinertia.batch_inputs import collect_jobs
     from urdfinertia.fix import FixOptions
 
     start = time.perf_counter()

@@ -10,7 +10,8 @@ import pytest
 import trimesh
 
 from urdfinertia import batch, meshlib
-from urdfinertia.batch import BatchSettings, FileJob, collect_jobs, run_batch
+from urdfinertia.batch import BatchSettings, run_batch
+from urdfinertia.batch_inputs import FileJob, collect_jobs
 from urdfinertia.cli import main
 from urdfinertia.errors import OutputError, UrdfError
 from urdfinertia.fix import FixOptions

@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 import trimesh
 
-from urdfinertia.batch import BatchSettings, collect_jobs, run_batch
+from urdfinertia.batch import BatchSettings, run_batch
+from urdfinertia.batch_inputs import collect_jobs
 from urdfinertia.cli import main
 from urdfinertia.executors import ClusterError, connect_dask
 from urdfinertia.fix import FixOptions

@@ -17,7 +17,8 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from rich.table import Table
 
 from .atomic import atomic_write_bytes
-from .batch import BatchReport, BatchSettings, collect_jobs, prepared_library, run_batch
+from .batch import BatchReport, BatchSettings, prepared_library, run_batch
+from .batch_inputs import collect_jobs
 from .cache import DEFAULT_MAX_BYTES, ENV_VAR
 from .errors import OutputError
 from .fix import FixOptions

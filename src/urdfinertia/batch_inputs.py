@@ -1,0 +1,58 @@
+"""The inputs of a batch run: URDF files and folders, and where each result goes."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import OutputError, UrdfError
+
+
+@dataclass(frozen=True)
+class FileJob:
+    """One URDF to fix and where its result goes (None: kept in memory)."""
+
+    source: Path
+    output: Path | None = None
+
+
+def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJob]:
+    """The URDFs named by ``inputs`` (files, and folders searched recursively for *.urdf).
+
+    A file goes to ``output_dir/<name>``, a folder's files to ``output_dir/<path relative
+    to the folder>``. Raises when an input does not exist, nothing is found, two inputs
+    would be written to the same place or an output would overwrite its input.
+    """
+    found: list[tuple[Path, Path]] = []  # (source, path relative to output_dir)
+    for item in inputs:
+        item = Path(item)
+        if item.is_dir():
+            files = sorted(p for p in item.rglob("*")
+                           if p.suffix.lower() == ".urdf" and p.is_file())
+            found.extend((p, p.relative_to(item)) for p in files)
+        elif item.is_file():
+            found.append((item, Path(item.name)))
+        else:
+            raise UrdfError("no such file or folder", file=item)
+    if not found:
+        raise UrdfError("no .urdf files found in " + ", ".join(map(str, inputs)))
+    jobs: list[FileJob] = []
+    seen: set[Path] = set()
+    targets: dict[Path, Path] = {}
+    for source, rel in found:
+        key = source.resolve()
+        if key in seen:
+            continue
+        seen.add(key)
+        output = output_dir / rel if output_dir is not None else None
+        if output is not None:
+            target = output.resolve()
+            if target == key:
+                raise OutputError("output is the input file: use --in-place", file=output)
+            if target in targets:
+                raise OutputError(f"two inputs would be written here: {targets[target]} and "
+                                  f"{source}", file=output)
+            targets[target] = source
+        jobs.append(FileJob(source, output))
+    return jobs
