@@ -20,11 +20,6 @@ def _positive(name: str, *values: float) -> None:
             raise ValueError(f"{name} must be positive and finite, got {v!r}")
 
 
-def box_volume(size: ArrayLike) -> float:
-    a, b, c = np.asarray(size, dtype=np.float64)
-    return float(a * b * c)
-
-
 def box(size: ArrayLike, density: float) -> MassProperties:
     """Cuboid of full side lengths ``size = (a, b, c)`` (paper eq. 39)."""
     a, b, c = np.asarray(size, dtype=np.float64)
