@@ -58,7 +58,7 @@ def test_lost_corner_vertex_is_estimated_not_claimed_exact() -> None:
 def test_triangulation_restores_a_pair_across_a_sharp_edge() -> None:
     """Two faces meeting at a cube edge go missing: a fan would cut the corner off."""
     v, f = cube()
-    edge_id, _, _ = edge_table(f)
+    edge_id = edge_table(f).edge_id
     order = np.argsort(edge_id, kind="stable")
     pairs = order.reshape(-1, 2) // 3  # the two faces of each edge of a closed mesh
     n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])

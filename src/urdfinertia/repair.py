@@ -36,6 +36,7 @@ from .meshgraph import (
     edge_table,
     face_components,
     is_closed_oriented,
+    split_vertices,
     weld_vertices,
 )
 from .polyhedron import face_volumes, used_vertices
@@ -82,6 +83,10 @@ class RepairedMesh:
     notes: tuple[str, ...] = ()
 
 
+#: Signed volume and area of each labelled shell: ``(volume, area)``.
+_Measures = tuple[np.ndarray, np.ndarray]
+
+
 @dataclass(frozen=True, eq=False)
 class _Shell:
     """A closed, edge-connected surface of the repaired mesh."""
@@ -125,14 +130,14 @@ def repair_mesh(mesh: TriangleMesh) -> RepairedMesh:
     # closed and oriented already (most CAD exports): no flips, no caps, and the edge
     # components are both the orientation patches and the shells
     known = face_components(faces, table) if is_closed_oriented(table) else None
-    oriented, flipped, non_orientable = _orient(vertices, faces, table, known)
+    oriented, flipped, non_orientable, measures = _orient(vertices, faces, table, known)
     if flipped:
         notes.append(f"reoriented {flipped} of {len(faces)} faces outward")
     if non_orientable:
         notes.append(f"{non_orientable} faces lie on a non-orientable surface: "
                      "volume is approximate")
     if known is not None:  # nothing to cap; turning whole shells keeps the components
-        shells, flat = _split(vertices, oriented, HoleCaps.none(), known)
+        shells, flat = _split(vertices, oriented, HoleCaps.none(), known, measures)
     else:
         closed_v, closed_f, caps = close_holes(vertices, oriented)
         shells, flat = _split(closed_v, closed_f, caps)
@@ -168,7 +173,8 @@ def _checked(mesh: TriangleMesh) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
-            closed: tuple[int, np.ndarray] | None) -> tuple[np.ndarray, int, int]:
+            closed: tuple[int, np.ndarray] | None,
+            ) -> tuple[np.ndarray, int, int, _Measures | None]:
     """Faces oriented consistently per patch and outward per closed patch.
 
     Each orientation patch is closed on its own (private vertices, so loops never cross
@@ -182,8 +188,9 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
     flips, the patches are those components and each is closed already, so the private
     copies are skipped (they would hold the same coordinates, hence the same sums).
 
-    Returns the oriented faces, how many input faces were reversed and how many lie on
-    non-orientable patches.
+    Returns the oriented faces, how many input faces were reversed, how many lie on
+    non-orientable patches, and, when ``closed`` is given and no patch was turned, the
+    patches' volumes and areas (which :func:`_split` would compute again).
     """
     if closed is not None:
         flip = np.zeros(len(faces), dtype=bool)
@@ -197,11 +204,10 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
         own_v, own_f, face_patch = _patch_copies(vertices, propagated, patch)
     n_patch = int(patch.max() + 1)
     centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
-    volume = np.bincount(face_patch, weights=face_volumes(own_v[own_f] - centre),
-                         minlength=n_patch)
-    tri = vertices[faces]
-    area = np.bincount(patch, weights=0.5 * np.linalg.norm(
-        np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1), minlength=n_patch)
+    tri = vertices[faces] - centre
+    own_tri = tri if closed is not None else own_v[own_f] - centre
+    volume = np.bincount(face_patch, weights=face_volumes(own_tri), minlength=n_patch)
+    area = np.bincount(patch, weights=_areas(tri), minlength=n_patch)
     flat = ~(np.abs(volume) > FLAT_RTOL * area ** 1.5)
     majority_flipped = 2 * np.bincount(patch, weights=flip, minlength=n_patch) > \
         np.bincount(patch, minlength=n_patch)
@@ -215,18 +221,18 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
     reverse = turn[patch]
     oriented = np.where(reverse[:, None], propagated[:, ::-1], propagated)
     flipped = int(np.count_nonzero(flip ^ reverse))
-    return oriented, flipped, int(np.count_nonzero(non_orientable))
+    measures = (volume, area) if closed is not None and not turn.any() else None
+    return oriented, flipped, int(np.count_nonzero(non_orientable)), measures
 
 
 def _patch_copies(vertices: np.ndarray, faces: np.ndarray, patch: np.ndarray,
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Each patch on private vertices, capped with fans: vertices, faces, patch per face."""
-    n = len(vertices)
-    key = patch[:, None] * n + faces
-    uniq, local = np.unique(key, return_inverse=True)
-    local = local.reshape(-1, 3)
-    own_v, own_f = cap_with_fans(vertices[uniq % n], local)
-    vertex_patch = np.concatenate([uniq // n, np.zeros(len(own_v) - len(uniq), np.int64)])
+    count = int(patch.max()) + 1
+    uniq, local, bounds = split_vertices(len(vertices), faces, patch, count)
+    own_v, own_f = cap_with_fans(vertices[uniq], local)
+    vertex_patch = np.concatenate([np.repeat(np.arange(count), np.diff(bounds)),
+                                   np.zeros(len(own_v) - len(uniq), np.int64)])
     return own_v, own_f, np.concatenate([patch, vertex_patch[own_f[len(local):, 0]]])
 
 
@@ -245,11 +251,11 @@ def _nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
         return final
     order = np.argsort(label, kind="stable")
     bounds = np.searchsorted(label[order], np.arange(k + 1))
-    lo = np.full((k, 3), np.inf)
-    hi = np.full((k, 3), -np.inf)
     tri = vertices[faces]
-    np.minimum.at(lo, label, tri.min(axis=1))
-    np.maximum.at(hi, label, tri.max(axis=1))
+    corner_lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
+    corner_hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
+    lo = np.minimum.reduceat(corner_lo[order], bounds[:-1])  # every label has faces
+    hi = np.maximum.reduceat(corner_hi[order], bounds[:-1])
     cand = (np.all(lo[:, None] >= lo[None], axis=2) & np.all(hi[:, None] <= hi[None], axis=2)
             & (size[:, None] < size[None]) & ~skip[:, None] & ~skip[None])
     inside = np.zeros((k, k), dtype=bool)  # inside[p, q]: surface p lies in surface q
@@ -275,36 +281,41 @@ def _probe_point(triangles: np.ndarray) -> np.ndarray:
 
 
 def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
-           known: tuple[int, np.ndarray] | None = None) -> tuple[list[_Shell], int]:
+           known: tuple[int, np.ndarray] | None = None, measures: _Measures | None = None,
+           ) -> tuple[list[_Shell], int]:
     """Edge-connected closed shells; those enclosing no volume are counted and dropped.
 
-    ``known`` is ``face_components(faces)`` when the caller has it already.
+    ``known`` is ``face_components(faces)`` when the caller has it already, ``measures``
+    each component's signed volume and area.
     """
     count, label = known if known is not None else face_components(faces)
     vertex_label = np.zeros(len(vertices), dtype=np.int64)
     vertex_label[faces.reshape(-1)] = np.repeat(label, 3)
-    centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
-    tri = vertices[faces] - centre
-    volume = np.bincount(label, weights=face_volumes(tri), minlength=count)
-    area = np.bincount(label, weights=0.5 * np.linalg.norm(
-        np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1), minlength=count)
+    if measures is None:
+        centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
+        tri = vertices[faces] - centre
+        measures = (np.bincount(label, weights=face_volumes(tri), minlength=count),
+                    np.bincount(label, weights=_areas(tri), minlength=count))
+    volume, area = measures
     solid = np.abs(volume) > FLAT_RTOL * area ** 1.5
     order = np.argsort(label, kind="stable")
     bounds = np.searchsorted(label[order], np.arange(count + 1))
     # each shell's sorted vertices and its faces re-indexed into them, for all shells at
-    # once: (shell, vertex) keys sort shell by shell, vertices ascending within
-    n = len(vertices)
-    key = label[order][:, None] * n + faces[order]
-    uniq, local = np.unique(key, return_inverse=True)
-    local = local.reshape(-1, 3)
-    vbounds = np.searchsorted(uniq, np.arange(count + 1) * n)
+    # once, shell by shell, vertices ascending within
+    uniq, local, vbounds = split_vertices(len(vertices), faces[order], label[order], count)
     loop_label = vertex_label[caps.vertex]
     shells = []
     for c in np.flatnonzero(solid):  # one iteration per shell, slicing only
-        used = uniq[vbounds[c]:vbounds[c + 1]] - c * n
+        used = uniq[vbounds[c]:vbounds[c + 1]]
         shells.append(_Shell(vertices[used], local[bounds[c]:bounds[c + 1]] - vbounds[c],
                              float(volume[c]), caps.subset(loop_label == c)))
     return shells, int(np.count_nonzero(~solid))
+
+
+def _areas(tri: np.ndarray) -> np.ndarray:
+    """(m,) area of each triangle of ``tri`` (m, 3 corners, 3)."""
+    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
+                                axis=1)
 
 
 def _group(shells: list[_Shell]) -> tuple[list[tuple[int, list[int]]], int]:
@@ -361,9 +372,7 @@ def _body(shells: list[_Shell], outer: int, cavities: list[int]) -> RepairedBody
     else:
         method = f"closed {loops} holes with caps (estimate)"
         error = uncertainty / volume
-        tri = vertices[faces]
-        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
-                                    axis=1).sum()
+        area = _areas(vertices[faces]).sum()
         share = sum(float(s.caps.area.sum()) for s in members) / area
         notes.append(f"open mesh: closed {loops} holes ({100 * share:.2g}% of the surface), "
                      f"volume estimated within ~{100 * error:.2g}%")

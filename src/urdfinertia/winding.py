@@ -114,12 +114,15 @@ def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayL
         return out
     # coordinates along the ray (x) and across it (y, z): a rotation, so each vertex
     # keeps one position and the surface stays closed
-    used = np.unique(f)
+    used = np.zeros(len(v), dtype=bool)
+    used[f.reshape(-1)] = True
     rotated = np.zeros_like(v)
     rotated[used] = v[used] @ _RAY_FRAME.T
     tri = rotated[f]
     pts_all, pts = pts, pts @ _RAY_FRAME.T
-    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    # elementwise over the corners: numpy's reduction along a length-3 axis is slow
+    lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
+    hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
     scale = float(np.linalg.norm(np.maximum(hi.max(axis=0), pts.max(axis=0))
                                  - np.minimum(lo.min(axis=0), pts.min(axis=0))))
     slack = RAY_RTOL * scale
