@@ -132,8 +132,7 @@ def threads(jobs, dask):
 
 def test_each_distinct_mesh_is_read_once_with_workers(tree, tmp_path, monkeypatch):
     reads: list[str] = []
-    real = batch.load_mesh
-    monkeypatch.setattr(batch, "load_mesh", lambda p, m: reads.append(p) or real(p, m))
+    real = meshlib.load_mesh  # the worker task (batch.mesh_task) reads through it too
     monkeypatch.setattr(meshlib, "load_mesh", lambda p, m: reads.append(p) or real(p, m))
     monkeypatch.setattr(batch, "open_executor", threads)  # same process: reads are seen
     report = run_batch(collect_jobs([tree], tmp_path / "out"), FixOptions(),
@@ -273,3 +272,96 @@ def test_whole_file_results_do_not_depend_on_the_working_folder(tree, tmp_path, 
                        BatchSettings(cache_dir=cache))
     assert report.file_hits == 2
     assert outputs(tmp_path / "one") == outputs(tmp_path / "two")
+
+
+def test_errors_fixed_by_the_inputs_are_cached_until_the_inputs_change(broken, tmp_path):
+    cache = tmp_path / "c"
+
+    def run(name):
+        report = run_batch(collect_jobs([broken], tmp_path / name), FixOptions(),
+                           BatchSettings(cache_dir=cache))
+        return report, {o.source.name: o.error for o in report.failed}
+
+    _, cold = run("cold")
+    assert set(cold) == {"bad_xml.urdf", "no_mesh.urdf"}
+    report, warm = run("warm")
+    assert warm == cold  # the same one-line errors, from the cache
+    assert report.file_hits == 5 and report.cache_hits == 0
+    # the missing mesh appears: the entry no longer holds, the file is fixed
+    trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(broken / "pkg_b" / "missing.stl")
+    report, fixed = run("fixed")
+    assert set(fixed) == {"bad_xml.urdf"}
+    assert report.file_hits == 4
+    assert (tmp_path / "fixed" / "pkg_b" / "no_mesh.urdf").is_file()
+
+
+def test_a_cached_error_names_the_source_as_spelled(broken, tmp_path, monkeypatch):
+    cache = tmp_path / "c"
+    monkeypatch.chdir(broken)
+    first = run_batch(collect_jobs([Path("pkg_b")], tmp_path / "one"), FixOptions(),
+                      BatchSettings(cache_dir=cache))
+    second = run_batch(collect_jobs([broken / "pkg_b"], tmp_path / "two"), FixOptions(),
+                       BatchSettings(cache_dir=cache))
+    errors = [sorted(o.error for o in r.failed) for r in (first, second)]
+    assert all(e.startswith("pkg_b") for e in errors[0])
+    assert all(e.startswith(str(broken)) for e in errors[1])
+    assert second.file_hits == 1  # robot_c; the errors quote the other spelling
+
+
+def test_errors_that_may_depend_on_the_environment_are_not_cached(tree, tmp_path,
+                                                                   monkeypatch):
+    from urdfinertia.errors import MeshError
+
+    def unreadable(path, max_faces):
+        raise MeshError(f"cannot read {path}: permission denied")
+
+    monkeypatch.setattr(meshlib, "load_mesh", unreadable)
+    cache = tmp_path / "c"
+    for name in ("one", "two"):
+        report = run_batch(collect_jobs([tree], tmp_path / name), FixOptions(),
+                           BatchSettings(cache_dir=cache))
+        assert {o.source.name for o in report.failed} == {"robot_a.urdf", "robot_b.urdf"}
+        assert report.file_hits == (0 if name == "one" else 1)  # robot_c only
+
+
+def test_a_warm_run_writes_every_output_and_keeps_the_order(tree, tmp_path):
+    settings = BatchSettings(cache_dir=tmp_path / "c")
+    run_batch(collect_jobs([tree], tmp_path / "cold"), FixOptions(), settings)
+    jobs = collect_jobs([tree], tmp_path / "warm")
+    report = run_batch(jobs, FixOptions(), settings)  # every file from the cache
+    assert report.file_hits == 3
+    assert [o.source for o in report.outcomes] == [j.source for j in jobs]
+    assert all(o.output == j.output and o.document is None
+               for o, j in zip(report.outcomes, jobs, strict=True))
+    assert outputs(tmp_path / "warm") == outputs(tmp_path / "cold")
+    assert report.times.get("write") > 0
+
+
+def test_urdf_files_finds_what_rglob_finds(tmp_path):
+    from urdfinertia.batch_inputs import urdf_files
+
+    (tmp_path / "a" / "b").mkdir(parents=True)
+    (tmp_path / "other").mkdir()
+    for name in ("a/x.urdf", "a/b/y.URDF", "a/.urdf", "a/z.urdf.bak", "a/b/w.xml",
+                 "other/v.urdf", ".hidden.urdf"):
+        (tmp_path / name).write_text("<robot/>")
+    (tmp_path / "dir.urdf").mkdir()
+    (tmp_path / "a" / "link.urdf").symlink_to(tmp_path / "other" / "v.urdf")
+    (tmp_path / "a" / "loop").symlink_to(tmp_path / "a")  # not followed
+    expected = sorted(p for p in tmp_path.rglob("*")
+                      if p.suffix.lower() == ".urdf" and p.is_file())
+    assert sorted(urdf_files(tmp_path)) == expected
+    assert len(expected) == 5
+
+
+def test_an_altered_error_entry_is_recomputed(broken, tmp_path):
+    cache = tmp_path / "c"
+    source = broken / "pkg_b" / "no_mesh.urdf"
+    run_batch([FileJob(source)], FixOptions(), BatchSettings(cache_dir=cache))
+    (entry,) = (cache / "files-v1").glob("??/*.entry")
+    data = entry.read_bytes()
+    at = data.rindex(b"missing.stl")  # in the message (the body), not in the header
+    entry.write_bytes(data[:at] + b"ELSEWHERE!!" + data[at + 11:])  # same length
+    report = run_batch([FileJob(source)], FixOptions(), BatchSettings(cache_dir=cache))
+    assert report.file_hits == 0
+    assert "missing.stl" in report.outcomes[0].error

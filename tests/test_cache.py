@@ -280,3 +280,50 @@ def test_local_imports_text_scan_matches_the_syntax_tree():
         source = module.read_text(encoding="utf-8")
         assert local_imports(source) == by_ast(source), module.name
     assert local_imports("from . import a, b as c\nfrom .x import (y,\n z)\n") == {"a", "b", "x"}
+
+
+def test_mesh_limits_are_the_readers_limits():
+    from urdfinertia import limits, mesh_io
+
+    assert limits.DEFAULT_MAX_FACES == mesh_io.DEFAULT_MAX_FACES
+    assert limits.BYTES_PER_FACE == mesh_io.BYTES_PER_FACE
+    assert limits.BASE_MESH_BYTES == mesh_io.BASE_MESH_BYTES
+    for faces in (0, 10, 10**6):
+        assert limits.max_mesh_bytes(faces) == mesh_io.max_mesh_bytes(faces)
+
+
+def test_algorithm_version_is_read_from_the_solids_source(monkeypatch):
+    from urdfinertia import solids
+
+    expected = getattr(solids, "ALGORITHM_VERSION", cache_mod.SOLIDS_VERSION)
+    assert cache_mod.algorithm_version() == expected
+    found = cache_mod._ALGORITHM_VERSION.search('x = 1\nALGORITHM_VERSION = "v-3"  # bump\n')
+    assert found is not None and found.group(1) == "v-3"
+
+
+def test_a_warm_run_imports_no_numerical_or_terminal_library():
+    """Structure, not speed: the modules a whole-file cache hit runs through stay light."""
+    import subprocess
+    import sys
+
+    code = ("import sys\n"
+            "from urdfinertia.batch import BatchSettings, run_batch\n"
+            "from urdfinertia.batch_inputs import collect_jobs\n"
+            "from urdfinertia.fix import FixOptions\n"
+            "import urdfinertia.cli, urdfinertia.cli_fix\n"
+            "heavy = {'numpy', 'lxml', 'rich', 'trimesh', 'scipy', 'multiprocessing'}\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in heavy))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_prune_skips_the_scan_when_nothing_was_written(store, rng, monkeypatch):
+    store.put(entry_key(b"x", ".stl"), random_solids(rng), 10)
+    store.prune()
+    quiet = SolidsCache(store.root)  # a warm run: hits only
+    monkeypatch.setattr(quiet, "_scan", lambda: pytest.fail("scanned"))
+    assert quiet.prune() == 0
+    smaller = SolidsCache(store.root)  # a lower bound than the size counted: scanned
+    assert smaller.prune(max_bytes=1) > 0
+    assert smaller.entries() == []

@@ -114,3 +114,59 @@ def test_values_are_read_only():
     body = MassProperties(1.0, np.zeros(3), np.eye(3))
     with pytest.raises(ValueError):
         body.com[0] = 1.0
+
+
+def _accepted_by_eigenvalues(mass: float, inertia: np.ndarray) -> bool:
+    """The definiteness rule as specified: LAPACK's eigenvalues against the slack."""
+    sym = 0.5 * (inertia + inertia.T)
+    eig = np.linalg.eigvalsh(sym)
+    slack = 1e-9 * abs(float(np.trace(sym)))
+    return bool(eig[0] >= -slack) if mass >= 0 else bool(eig[-1] <= slack)
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_definiteness_check_agrees_with_the_eigenvalues_near_the_limit(rng, sign):
+    """The fast factorisation path must accept exactly what eigvalsh accepts."""
+    from scipy.spatial.transform import Rotation
+
+    for k in range(3000):
+        r = Rotation.random(random_state=int(rng.integers(1 << 31))).as_matrix()
+        scale = 10.0 ** rng.uniform(-12, 3)
+        moments = rng.uniform(0, 1, 3) * scale
+        trace = moments.sum()
+        # the smallest moment at, just inside or just outside -1e-9 trace, or far away
+        edge = -1e-9 * trace * (1 + rng.choice([-1e-3, -1e-7, 0.0, 1e-7, 1e-3, -0.5, 2.0]))
+        if k % 4 == 0:
+            moments[0] = edge
+        elif k % 4 == 1:
+            moments[0] = 0.0
+        inertia = sign * (r @ np.diag(moments) @ r.T)
+        expected = _accepted_by_eigenvalues(sign, inertia)
+        try:
+            MassProperties(sign, np.zeros(3), inertia)
+            accepted = True
+        except ValueError:
+            accepted = False
+        assert accepted == expected, (sign, moments)
+
+
+def test_transformed_is_rotated_then_translated_bit_for_bit(rng):
+    body = random_body(rng)
+    for _ in range(50):
+        r = Rotation.random(random_state=int(rng.integers(1 << 31))).as_matrix()
+        t = np.eye(4)
+        t[:3, :3] = r
+        t[:3, 3] = rng.normal(size=3)
+        fused = body.transformed(t)
+        steps = body.rotated(r).translated(t[:3, 3])
+        assert fused.mass == steps.mass
+        np.testing.assert_array_equal(fused.com, steps.com)
+        np.testing.assert_array_equal(fused.inertia, steps.inertia)
+
+
+def test_improper_or_skewed_rotations_are_refused():
+    body = MassProperties(1.0, np.zeros(3), np.eye(3))
+    with pytest.raises(ValueError, match="proper orthonormal"):
+        body.rotated(np.diag([1.0, 1.0, -1.0]))
+    with pytest.raises(ValueError, match="proper orthonormal"):
+        body.rotated(np.diag([1.0, 1.0, 1.001]))

@@ -86,3 +86,34 @@ def test_missing_file_names_the_uri(tree):
 def test_urls_are_never_fetched(tree, uri):
     with pytest.raises(MeshError, match="only files"):
         resolve_mesh_path(uri, Path(tree))
+
+
+def test_real_paths_match_path_resolve(tmp_path, monkeypatch):
+    import itertools
+    import os
+
+    from urdfinertia.paths import RealPaths
+
+    (tmp_path / "a" / "b" / "c").mkdir(parents=True)
+    (tmp_path / "x" / "y").mkdir(parents=True)
+    (tmp_path / "a" / "b" / "c" / "f.stl").write_bytes(b"x")
+    os.symlink("../x", tmp_path / "a" / "lx")
+    os.symlink("a/b", tmp_path / "lb")
+    os.symlink("c/f.stl", tmp_path / "a" / "b" / "lf")
+    os.symlink("loop2", tmp_path / "loop1")
+    os.symlink("loop1", tmp_path / "loop2")
+    monkeypatch.chdir(tmp_path)
+    names = ["a", "b", "c", "lx", "lb", "y", "..", ".", "f.stl", "lf", "nope", "loop1"]
+    real = RealPaths()  # one memo for every path, as in a run
+    for n in (1, 2, 3):
+        for parts in itertools.product(names, repeat=n):
+            for text in (os.path.join(*parts), os.path.join(tmp_path, *parts)):
+                try:
+                    want: object = str(Path(text).resolve())
+                except RuntimeError:
+                    want = RuntimeError
+                try:
+                    got: object = real(text)
+                except RuntimeError:
+                    got = RuntimeError
+                assert got == want, text

@@ -17,6 +17,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .atomic import atomic_write_bytes, write_in_place
 from .batch_inputs import FileJob
@@ -24,14 +25,26 @@ from .cache import DEFAULT_MAX_BYTES, SolidsCache, file_entry_key
 from .errors import MeshError, OutputError, UrdfInertiaError
 from .executors import open_executor, submit
 from .file_cache import CachedResult, FileResults
-from .fix import FixOptions, fix_robot, select_geometry
-from .mesh_io import load_mesh, max_mesh_bytes
-from .meshlib import MeshLibrary, cacheable, integrate_mesh, too_many_faces
-from .paths import resolve_mesh_path
-from .solids import MeshSolids
+from .fix import FixOptions
+from .limits import max_mesh_bytes
 from .timing import StageTimes
-from .urdf_model import Mesh
-from .urdf_read import read_urdf
+
+if TYPE_CHECKING:
+    from .meshlib import MeshLibrary
+    from .solids import MeshSolids
+
+# What reads, repairs and integrates (numpy, lxml, the mesh readers) is imported by the
+# functions that compute: a warm run, whose every file comes from the cache, needs none of it.
+
+#: Threads writing the outputs of a run whose every file came from the cache: each write
+#: waits for its fsyncs, which overlap in threads.
+WRITER_THREADS = 8
+
+def _load_compute_modules() -> None:
+    """Import what computes (numpy, lxml, the mesh readers) before any stage is timed, so
+    that stage times do not include imports."""
+    from . import assemble, meshlib, parts, urdf_read, urdf_write  # noqa: F401
+
 
 #: progress(kind, done, total) with kind "meshes" or "files".
 ProgressHook = Callable[[str, int, int], None]
@@ -86,6 +99,9 @@ class FileOutcome:
     #: bytes the result was computed from: what a whole-file cache entry depends on.
     trace: tuple[tuple[str, str, str], ...] = ()
     source_digest: str = ""
+    #: The error depends on the source bytes and the traced meshes alone (its XML, a URI
+    #: that does not resolve, a mesh rejected for its bytes): it may be cached.
+    reusable_error: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,6 +124,11 @@ def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
 
     Problems are ignored here: the file's own task reports them in context.
     """
+    from .fix import select_geometry
+    from .paths import resolve_mesh_path
+    from .urdf_model import Mesh
+    from .urdf_read import read_urdf
+
     try:
         robot, _ = read_urdf(source)
     except UrdfInertiaError:
@@ -134,13 +155,16 @@ def mesh_task(path: str, max_faces: int) -> tuple[MeshSolids | Exception, int, S
     The error is returned, not raised, so that each file using the mesh repeats it exactly
     as a single-process run would.
     """
+    from . import meshlib
+
+    _load_compute_modules()
     times = StageTimes()
     faces = 0
     try:
         with times.stage("mesh read"):
-            mesh = load_mesh(path, max_faces)
+            mesh = meshlib.load_mesh(path, max_faces)
         faces = len(mesh.faces)
-        return integrate_mesh(mesh, times), faces, times
+        return meshlib.integrate_mesh(mesh, times), faces, times
     except Exception as exc:  # noqa: BLE001 - reported per file by fix_with_library
         return exc, faces, times
 
@@ -148,14 +172,24 @@ def mesh_task(path: str, max_faces: int) -> tuple[MeshSolids | Exception, int, S
 def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
                      details: bool = False) -> FileOutcome:
     """Fix one file with ``meshes``; any failure becomes the outcome's one-line error."""
+    from .fix import fix_robot
+    from .urdf_read import read_urdf_bytes, robot_from_bytes
+
     times = StageTimes()
     before = dict(meshes.timer.seconds)
     start = time.perf_counter()
     meshes.trace = []
+    digest = ""
+    step = "read"
     try:
         with times.stage("xml"):
-            robot, data = read_urdf(source)
+            data = read_urdf_bytes(source)
+            digest = hashlib.blake2b(data, digest_size=20).hexdigest()
+            step = "parse"
+            robot = robot_from_bytes(data, source)
+        step = "fix"
         result = fix_robot(robot, data, options, meshes)
+        step = "report"
         info = None
         if details:
             from .results_json import fix_result_dict
@@ -166,10 +200,13 @@ def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
             source, robot=robot.name, links=len(result.links),
             recomputed=sum(r.status == "recomputed" for r in result.links),
             changed=result.changed, warnings=warnings, document=result.output,
-            details=info, times=times, trace=tuple(meshes.trace),
-            source_digest=hashlib.blake2b(data, digest_size=20).hexdigest())
+            details=info, times=times, trace=tuple(meshes.trace), source_digest=digest)
     except UrdfInertiaError as exc:
-        outcome = FileOutcome(source, error=str(exc), times=times)
+        # reading can fail for the environment (permissions); parsing and fixing for the
+        # inputs, unless a mesh failed for more than its bytes (a read error, say)
+        reusable = step in ("parse", "fix") and meshes.failed_for_bytes_only(meshes.trace)
+        outcome = FileOutcome(source, error=str(exc), times=times, trace=tuple(meshes.trace),
+                              source_digest=digest, reusable_error=reusable)
     except Exception as exc:  # noqa: BLE001 - a bug on one file must not end a batch
         outcome = FileOutcome(source, error=f"{source}: internal error: "
                                             f"{type(exc).__name__}: {exc}", times=times)
@@ -188,6 +225,9 @@ def fix_file_task(source: str, options: FixOptions,
                   seeds: Mapping[str, MeshSolids | Exception],
                   details: bool = False) -> FileOutcome:
     """The per-file unit of work run by a worker: ``seeds`` are its meshes' results."""
+    from .meshlib import MeshLibrary
+
+    _load_compute_modules()
     meshes = MeshLibrary(options.package_dirs, options.max_faces)
     for path, outcome in seeds.items():
         meshes.seed(Path(path), outcome)
@@ -228,11 +268,16 @@ class _Run:
             return False
         found, faces = hit
         max_faces = self.options.max_faces
-        self.meshes[path] = found if faces <= max_faces else too_many_faces(
-            path, faces, max_faces)
+        if faces > max_faces:
+            from .meshlib import too_many_faces
+
+            found = too_many_faces(path, faces, max_faces)
+        self.meshes[path] = found
         return True
 
     def store(self, path: Path, outcome: MeshSolids | Exception, faces: int) -> None:
+        from .meshlib import cacheable
+
         self.meshes[path] = outcome
         key = self.keys.get(path)
         # faces > 0: the mesh was read, so an error came from the repair of its bytes
@@ -322,6 +367,8 @@ def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: Batch
     With ``settings.jobs > 1`` or ``settings.dask`` the meshes are computed in parallel;
     otherwise they are computed lazily by the library itself.
     """
+    from .meshlib import MeshLibrary
+
     library = MeshLibrary(options.package_dirs, options.max_faces, cache)
     with open_executor(settings.jobs, settings.dask) as pool:
         if pool is None:
@@ -350,14 +397,19 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
 
     def finish(i: int, outcome: FileOutcome) -> None:
         nonlocal done
-        outcomes[i] = _write(jobs[i], outcome, settings.in_place, times)
+        if outcome.error is None and outcome.document is not None:
+            with times.stage("write"):
+                outcome = _write(jobs[i], outcome, settings.in_place)
+        outcomes[i] = outcome
         done += 1
         hook("files", done, total)
 
     hook = progress or (lambda kind, d, t: None)
     hook("files", 0, total)
-    results = FileResults(cache, options) if cache is not None and not settings.details else None
+    results = (FileResults(cache, options) if cache is not None and not settings.details
+               else None)
     todo = list(range(total))
+    hits: list[tuple[int, FileOutcome]] = []
     if results is not None:
         todo = []
         for i, job in enumerate(jobs):
@@ -366,56 +418,38 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
             if hit is None:
                 todo.append(i)
             else:
-                finish(i, _from_cache(job.source, *hit))
+                hits.append((i, _from_cache(job.source, *hit)))
+    if todo:
+        for i, outcome in hits:
+            finish(i, outcome)
 
-    def finish_fresh(i: int, outcome: FileOutcome) -> None:
-        if results is not None and outcome.error is None and outcome.document is not None:
-            known = results.keys.get(jobs[i].source)
-            if known and hashlib.blake2b(known[1], digest_size=20).hexdigest() == \
-                    outcome.source_digest:
-                with times.stage("cache"):
-                    results.store(jobs[i].source, outcome.trace, CachedResult(
-                        outcome.robot, outcome.links, outcome.recomputed, outcome.warnings,
-                        outcome.document))
-        finish(i, outcome)
+        def finish_fresh(i: int, outcome: FileOutcome) -> None:
+            reusable = (outcome.document is not None if outcome.error is None
+                        else outcome.reusable_error)
+            if results is not None and reusable and outcome.source_digest:
+                known = results.keys.get(jobs[i].source)
+                if known and hashlib.blake2b(known[1], digest_size=20).hexdigest() == \
+                        outcome.source_digest:
+                    with times.stage("cache"):
+                        results.store(jobs[i].source, outcome.trace, CachedResult(
+                            outcome.robot, outcome.links, outcome.recomputed,
+                            outcome.warnings, outcome.document or b"", outcome.error))
+            finish(i, outcome)
 
-    with open_executor(settings.jobs, settings.dask) as pool:
-        if not todo:
-            pass
-        elif pool is None:
-            library = MeshLibrary(options.package_dirs, options.max_faces, cache)
-            for i in todo:
-                finish_fresh(i, fix_with_library(jobs[i].source, options, library,
-                                                 settings.details))
-            meshes = len(library._memo)
-        else:
-            run = _Run(options, settings, cache, progress)
-            pending = set(todo)
-            with run.times.stage("xml"):
-                needs = [referenced_meshes(jobs[i].source, options) if i in pending else []
-                         for i in range(total)]
-
-            def ready(i: int) -> None:
-                if outcomes[i] is not None:
-                    return  # taken from the whole-file cache
-                seeds = {str(p): run.meshes[p] for p in needs[i]}
-                fut = submit(pool, fix_file_task, str(jobs[i].source), options, seeds,
-                              settings.details)
-                run.futures[fut] = ("file", i)
-
-            def file_done(i: object, fut: cf.Future) -> None:
-                assert isinstance(i, int)
-                try:
-                    outcome = fut.result()
-                except Exception as exc:  # noqa: BLE001 - e.g. a worker killed by the OS
-                    outcome = FileOutcome(jobs[i].source, error=f"{jobs[i].source}: worker "
-                                          f"failed: {type(exc).__name__}: {exc}")
-                finish_fresh(i, outcome)
-
-            run.prepare(pool, needs, ready)
-            run.drain(file_done)
-            times.merge(run.times)
-            meshes = run.total_meshes
+        meshes = _fix_all(jobs, todo, options, settings, cache, progress, times,
+                          finish_fresh)
+    elif hits:
+        # everything came from the cache: only writing is left, and each write waits for
+        # its fsyncs, so a few threads write at once (no process pool runs that a thread
+        # could disturb)
+        with times.stage("write"), cf.ThreadPoolExecutor(
+                WRITER_THREADS, thread_name_prefix="urdfinertia-write") as writer:
+            written = writer.map(lambda hit: _write(jobs[hit[0]], hit[1], settings.in_place),
+                                 hits)
+            for (i, _), outcome in zip(hits, written, strict=True):
+                outcomes[i] = outcome
+                done += 1
+                hook("files", done, total)
     for o in outcomes:
         assert o is not None
         times.merge(o.times)
@@ -429,27 +463,73 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
                        results.hits if results is not None else 0)
 
 
+def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
+             settings: BatchSettings, cache: SolidsCache | None,
+             progress: ProgressHook | None, times: StageTimes,
+             finish: Callable[[int, FileOutcome], None]) -> int:
+    """Compute the files ``todo`` (indices into ``jobs``), passing each outcome to
+    ``finish``; returns the number of distinct meshes used."""
+    from .meshlib import MeshLibrary
+
+    _load_compute_modules()
+    total = len(jobs)
+    with open_executor(settings.jobs, settings.dask) as pool:
+        if pool is None:
+            library = MeshLibrary(options.package_dirs, options.max_faces, cache)
+            for i in todo:
+                finish(i, fix_with_library(jobs[i].source, options, library,
+                                           settings.details))
+            return len(library._memo)
+        run = _Run(options, settings, cache, progress)
+        pending = set(todo)
+        with run.times.stage("xml"):
+            needs = [referenced_meshes(jobs[i].source, options) if i in pending else []
+                     for i in range(total)]
+
+        def ready(i: int) -> None:
+            if i not in pending:
+                return  # taken from the whole-file cache
+            seeds = {str(p): run.meshes[p] for p in needs[i]}
+            fut = submit(pool, fix_file_task, str(jobs[i].source), options, seeds,
+                         settings.details)
+            run.futures[fut] = ("file", i)
+
+        def file_done(i: object, fut: cf.Future) -> None:
+            assert isinstance(i, int)
+            try:
+                outcome = fut.result()
+            except Exception as exc:  # noqa: BLE001 - e.g. a worker killed by the OS
+                outcome = FileOutcome(jobs[i].source, error=f"{jobs[i].source}: worker "
+                                      f"failed: {type(exc).__name__}: {exc}")
+            finish(i, outcome)
+
+        run.prepare(pool, needs, ready)
+        run.drain(file_done)
+        times.merge(run.times)
+        return run.total_meshes
+
+
 def _from_cache(source: Path, result: CachedResult, original: bytes) -> FileOutcome:
+    if result.error is not None:
+        return FileOutcome(source, error=result.error)
     return FileOutcome(source, robot=result.robot, links=result.links,
                        recomputed=result.recomputed, changed=result.document != original,
                        warnings=result.warnings, document=result.document)
 
 
-def _write(job: FileJob, outcome: FileOutcome, in_place: bool,
-           times: StageTimes) -> FileOutcome:
+def _write(job: FileJob, outcome: FileOutcome, in_place: bool) -> FileOutcome:
     """Write ``outcome``'s document where ``job`` says; drop it from memory once written."""
     if outcome.error is not None or outcome.document is None:
         return outcome
     try:
-        with times.stage("write"):
-            if in_place:
-                if outcome.changed:
-                    write_in_place(job.source, outcome.document)
-                return dataclasses.replace(outcome, output=job.source, document=None)
-            if job.output is None:
-                return outcome
-            job.output.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write_bytes(job.output, outcome.document)
+        if in_place:
+            if outcome.changed:
+                write_in_place(job.source, outcome.document)
+            return dataclasses.replace(outcome, output=job.source, document=None)
+        if job.output is None:
+            return outcome
+        job.output.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_bytes(job.output, outcome.document)
     except OSError as exc:
         err = OutputError(f"cannot write: {exc.strerror or exc}", file=job.output)
         return dataclasses.replace(outcome, error=str(err), document=None)

@@ -11,10 +11,7 @@ import json
 import os
 import sys
 from pathlib import Path
-
-from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
+from typing import TYPE_CHECKING, Any, TextIO
 
 from .atomic import atomic_write_bytes
 from .batch import BatchReport, BatchSettings, prepared_library, run_batch
@@ -22,8 +19,15 @@ from .batch_inputs import collect_jobs
 from .cache import DEFAULT_MAX_BYTES, ENV_VAR
 from .errors import OutputError
 from .fix import FixOptions
-from .meshlib import MeshLibrary
 from .timing import StageTimes
+
+if TYPE_CHECKING:
+    from rich.console import Console
+    from rich.table import Table
+
+    from .meshlib import MeshLibrary
+
+# rich is imported only to show something: a progress bar on a terminal, a table.
 
 
 def positive_int(text: str) -> int:
@@ -74,34 +78,69 @@ def is_batch(args: argparse.Namespace) -> bool:
             or (out is not None and out.is_dir()))
 
 
+def may_be_terminal(stream: TextIO) -> bool:
+    """False when rich would certainly not treat ``stream`` as a terminal (its own test
+    also reads ``TTY_COMPATIBLE`` and ``FORCE_COLOR``): then rich need not be imported."""
+    if os.environ.get("TTY_COMPATIBLE", "") == "1" or os.environ.get("FORCE_COLOR"):
+        return True
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
 class ProgressBar:
     """A rich progress bar on stderr; silent when stderr is not a terminal or with -q."""
 
     def __init__(self, quiet: bool) -> None:
-        console = Console(stderr=True)
-        self.progress = Progress(
-            TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-            TimeElapsedColumn(), console=console, auto_refresh=False,
-            redirect_stdout=False, redirect_stderr=False,
-            disable=quiet or not console.is_terminal,
-        )
+        self.progress: Any = None
         self.tasks: dict[str, int] = {}
+        if quiet or not may_be_terminal(sys.stderr):
+            return
+        from rich.console import Console
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+        )
+
+        console = Console(stderr=True)
+        if console.is_terminal:
+            self.progress = Progress(
+                TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                TimeElapsedColumn(), console=console, auto_refresh=False,
+                redirect_stdout=False, redirect_stderr=False,
+            )
 
     def __enter__(self) -> ProgressBar:
-        self.progress.start()
+        if self.progress is not None:
+            self.progress.start()
         return self
 
     def __exit__(self, *exc: object) -> None:
-        self.progress.stop()
+        if self.progress is not None:
+            self.progress.stop()
 
     def __call__(self, kind: str, done: int, total: int) -> None:
+        if self.progress is None:
+            return
         if kind not in self.tasks:
             self.tasks[kind] = self.progress.add_task(kind, total=total)
         self.progress.update(self.tasks[kind], completed=done, total=total, refresh=True)
 
 
+def stderr_console() -> Console:
+    from rich.console import Console
+
+    return Console(stderr=True, width=160)
+
+
 def single_file_library(args: argparse.Namespace, options: FixOptions) -> MeshLibrary:
     """The mesh library for a one-file run (meshes in parallel with --jobs/--dask)."""
+    from .meshlib import MeshLibrary
+
     settings = settings_from_args(args)
     cache = settings.open_cache()
     if settings.jobs > 1 or settings.dask:
@@ -117,6 +156,8 @@ def finish_single(args: argparse.Namespace, meshes: MeshLibrary) -> None:
         for w in meshes.cache.warnings:
             print(f"urdf-inertia: warning: {w}", file=sys.stderr)
     if getattr(args, "timings", False):
+        from rich.console import Console
+
         print_timings(meshes.timer, Console(stderr=True))
 
 
@@ -132,11 +173,10 @@ def run_many(args: argparse.Namespace, options: FixOptions) -> int:
     settings = settings_from_args(args)
     with ProgressBar(args.quiet) as bar:
         report = run_batch(jobs, options, settings, bar)
-    err = Console(stderr=True, width=160)
     if not args.quiet:
-        err.print(summary_table(report))
+        stderr_console().print(summary_table(report))
     if args.timings:
-        print_timings(report.times, err)
+        print_timings(report.times, stderr_console())
     if args.json is not None:
         doc = {"files": [o.details if o.details is not None else
                          {"file": str(o.source), "error": o.error} for o in report.outcomes]}
@@ -153,6 +193,8 @@ def run_many(args: argparse.Namespace, options: FixOptions) -> int:
 
 
 def summary_table(report: BatchReport) -> Table:
+    from rich.table import Table
+
     table = Table(title=f"{len(report.outcomes)} files ({report.file_hits} unchanged since a "
                         f"cached run), {report.meshes} distinct meshes computed or read from "
                         f"the cache ({report.cache_hits} hits, {report.cache_misses} misses)")
@@ -171,6 +213,8 @@ def summary_table(report: BatchReport) -> Table:
 
 
 def print_timings(times: StageTimes, console: Console) -> None:
+    from rich.table import Table
+
     table = Table(title="wall time per stage (summed over processes)")
     table.add_column("stage")
     table.add_column("seconds", justify="right")

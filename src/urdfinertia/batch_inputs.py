@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import OutputError, UrdfError
+from .paths import RealPaths
 
 
 @dataclass(frozen=True)
@@ -28,8 +30,7 @@ def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJo
     for item in inputs:
         item = Path(item)
         if item.is_dir():
-            files = sorted(p for p in item.rglob("*")
-                           if p.suffix.lower() == ".urdf" and p.is_file())
+            files = sorted(urdf_files(item))
             found.extend((p, p.relative_to(item)) for p in files)
         elif item.is_file():
             found.append((item, Path(item.name)))
@@ -40,14 +41,15 @@ def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJo
     jobs: list[FileJob] = []
     seen: set[Path] = set()
     targets: dict[Path, Path] = {}
+    real_path = RealPaths()  # Path.resolve, with the folders of the tree resolved once
     for source, rel in found:
-        key = source.resolve()
+        key = Path(real_path(source))
         if key in seen:
             continue
         seen.add(key)
         output = output_dir / rel if output_dir is not None else None
         if output is not None:
-            target = output.resolve()
+            target = Path(real_path(output))
             if target == key:
                 raise OutputError("output is the input file: use --in-place", file=output)
             if target in targets:
@@ -56,3 +58,21 @@ def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJo
             targets[target] = source
         jobs.append(FileJob(source, output))
     return jobs
+
+
+def urdf_files(folder: Path) -> list[Path]:
+    """Files under ``folder`` whose suffix is ``.urdf`` (any case), unordered.
+
+    What ``folder.rglob("*")`` filtered on ``suffix`` and ``is_file()`` finds (symbolic
+    links to folders are not followed, links to files are kept), with ``os.walk``: pathlib
+    built a path object for every file of the tree, meshes included.
+    """
+    out = []
+    for root, _, names in os.walk(folder):
+        for name in names:
+            dot = name.rfind(".")
+            if 0 < dot < len(name) - 1 and name[dot:].lower() == ".urdf":
+                path = Path(root, name)
+                if path.is_file():
+                    out.append(path)
+    return out

@@ -29,14 +29,19 @@ import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
-
-import numpy as np
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from . import __version__
 from .digests import FileDigests, content_digest, file_digest
 from .errors import MeshError
-from .solids import MeshSolids, Solid
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from .solids import MeshSolids
+
+# numpy and the solids types are imported where entries are encoded or decoded: a warm run
+# that reuses whole-file results computes keys only.
 
 #: Version of the mesh -> solids algorithm when :mod:`urdfinertia.solids` does not define
 #: ``ALGORITHM_VERSION`` itself. Bump it when repair or integration changes results.
@@ -49,6 +54,10 @@ SUBDIR = "solids-v2"
 #: Sub-folder of whole-file results (:mod:`urdfinertia.file_cache`).
 FILES_SUBDIR = "files-v1"
 DIGESTS_FILE = "digests-v1.json"
+#: Bytes of entries counted by the last :meth:`SolidsCache.prune` (lets a run that wrote
+#: nothing skip the scan of every entry).
+SIZE_FILE = "size-v1.json"
+SIZE_FORMAT = "urdfinertia-cache-size/1"
 ENV_VAR = "URDFINERTIA_CACHE_DIR"
 #: Default size bound of the cache folder, bytes.
 DEFAULT_MAX_BYTES = 512 * 1024 * 1024
@@ -70,9 +79,29 @@ def default_cache_dir() -> Path:
 
 
 def algorithm_version() -> str:
-    from . import solids
+    """``ALGORITHM_VERSION`` of :mod:`urdfinertia.solids`, else :data:`SOLIDS_VERSION`."""
+    return _declared_algorithm_version() or SOLIDS_VERSION
 
-    return str(getattr(solids, "ALGORITHM_VERSION", SOLIDS_VERSION))
+
+_ALGORITHM_VERSION = re.compile(r"""^ALGORITHM_VERSION(?:[ \t]*:[ \t]*str)?[ \t]*=[ \t]*"""
+                                r"""(?:"([^"\\\n]*)"|'([^'\\\n]*)')[ \t]*(?:#.*)?$""", re.MULTILINE)
+
+
+@functools.lru_cache(maxsize=1)
+def _declared_algorithm_version() -> str | None:
+    """The string literal ``solids.py`` assigns to ``ALGORITHM_VERSION``, if any.
+
+    Read from the source rather than by importing the module (which loads numpy and the
+    repair code, not needed to compute a key). Its source is part of :func:`code_digest`
+    too, so a version written any other way still changes every key when edited.
+    """
+    try:
+        text = (Path(__file__).parent / "solids.py").read_text(encoding="utf-8")
+    except OSError:
+        return None
+    found = _ALGORITHM_VERSION.search(text)
+    return None if found is None else (found.group(1) if found.group(1) is not None
+                                       else found.group(2))
 
 
 #: Modules that turn a mesh file's bytes into solids; their source is part of every key.
@@ -205,8 +234,11 @@ class SolidsCache:
             pass
         return found
 
-    def write(self, path: Path, data: bytes) -> None:
-        """Write an entry file atomically; a folder that cannot be written turns caching off."""
+    def write(self, path: Path, data: bytes, count: bool = True) -> None:
+        """Write an entry file atomically; a folder that cannot be written turns caching off.
+
+        ``count``: add the bytes to :attr:`written` (entries; not bookkeeping files).
+        """
         if not self.enabled or len(data) > MAX_ENTRY_BYTES:
             return
         try:
@@ -227,18 +259,34 @@ class SolidsCache:
             self.warnings.append(f"cache disabled: cannot write {self.root}: "
                                  f"{exc.strerror or exc}")
             return
-        self.written += len(data)
+        if count:
+            self.written += len(data)
 
     def entries(self) -> list[tuple[Path, int, float]]:
         """(path, size in bytes, mtime) of every entry file."""
-        out = []
-        for path in (*self.folder.glob("??/*.entry"), *self.files_folder.glob("??/*.entry")):
-            try:
-                st = path.stat()
-            except OSError:
-                continue
-            out.append((path, st.st_size, st.st_mtime))
-        return out
+        return self._scan()[0]
+
+    def _scan(self) -> tuple[list[tuple[Path, int, float]], list[str]]:
+        """Entry files (``??/*.entry``) with size and mtime, and temporary files
+        (``??/.*.tmp``) of both entry folders (``os.scandir``: pathlib's glob cost a warm
+        run more than reading the entries)."""
+        entries: list[tuple[Path, int, float]] = []
+        temporary: list[str] = []
+        for folder in (self.folder, self.files_folder):
+            for sub in _scandir(folder):
+                if len(sub.name) != 2 or not _is_dir(sub):
+                    continue
+                for item in _scandir(sub.path):
+                    name = item.name
+                    if name.endswith(".entry"):
+                        try:
+                            st = item.stat()
+                        except OSError:
+                            continue
+                        entries.append((Path(item.path), st.st_size, st.st_mtime))
+                    elif name.startswith(".") and name.endswith(".tmp") and len(name) >= 5:
+                        temporary.append(item.path)
+        return entries, temporary
 
     def size(self) -> int:
         return sum(size for _, size, _ in self.entries())
@@ -247,19 +295,28 @@ class SolidsCache:
         """Delete least recently used entries until the folder holds at most ``max_bytes``.
 
         Also removes temporary files left by killed runs. Returns the bytes freed.
+
+        A run that wrote no entry skips the scan when the size the last prune counted
+        (:data:`SIZE_FILE`, written by every scan) is within the bound: hits do not grow
+        the folder. Missing or unreadable, the count is taken again.
         """
         limit = self.max_bytes if max_bytes is None else int(max_bytes)
         if self.enabled:
             self.digests.save()
+        if self.written == 0:
+            known = self._counted_size()
+            if known is not None and known <= limit:
+                return 0
         freed = 0
         now = time.time()
-        for tmp in (*self.folder.glob("??/.*.tmp"), *self.files_folder.glob("??/.*.tmp")):
+        found, temporary = self._scan()
+        for tmp in temporary:
             try:
-                if now - tmp.stat().st_mtime > 3600:
-                    tmp.unlink()
+                if now - os.stat(tmp).st_mtime > 3600:
+                    os.unlink(tmp)
             except OSError:
                 pass
-        entries = sorted(self.entries(), key=lambda e: (e[2], e[0].name))
+        entries = sorted(found, key=lambda e: (e[2], e[0].name))
         total = sum(size for _, size, _ in entries)
         for path, size, _ in entries:
             if total <= limit:
@@ -270,11 +327,46 @@ class SolidsCache:
                 continue
             total -= size
             freed += size
+        self._save_counted_size(total)
         return freed
+
+    def _counted_size(self) -> int | None:
+        try:
+            doc = json.loads((self.root / SIZE_FILE).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return None
+        if not (isinstance(doc, dict) and doc.get("format") == SIZE_FORMAT):
+            return None
+        size = doc.get("bytes")
+        return size if isinstance(size, int) and not isinstance(size, bool) else None
+
+    def _save_counted_size(self, total: int) -> None:
+        if not self.enabled or not self.folder.parent.is_dir():
+            return
+        self.write(self.root / SIZE_FILE,
+                   json.dumps({"format": SIZE_FORMAT, "bytes": int(total)}).encode(),
+                   count=False)
+
+
+def _scandir(folder: str | Path) -> list[os.DirEntry]:
+    try:
+        with os.scandir(folder) as it:
+            return list(it)
+    except OSError:
+        return []
+
+
+def _is_dir(entry: os.DirEntry) -> bool:
+    try:
+        return entry.is_dir()
+    except OSError:
+        return False
 
 
 def _plain(value: Any) -> Any:
     """A JSON-ready copy of a text/number field, or TypeError."""
+    import numpy as np
+
     if value is None or isinstance(value, (str, bool, int, float)):
         return value
     if isinstance(value, (np.floating, np.integer)):
@@ -297,6 +389,8 @@ def _field_names(cls: type) -> list[str]:
 
 def pack(header: dict, numbers: np.ndarray) -> bytes:
     """Entry bytes: magic line, header length (uint32 LE), JSON header, float64 LE numbers."""
+    import numpy as np
+
     head = json.dumps(header, allow_nan=False).encode()
     body = np.ascontiguousarray(numbers, dtype="<f8").tobytes()
     return MAGIC + len(head).to_bytes(4, "little") + head + body
@@ -304,6 +398,8 @@ def pack(header: dict, numbers: np.ndarray) -> bytes:
 
 def unpack(data: bytes) -> tuple[dict, np.ndarray]:
     """Header and numbers of an entry; ValueError when the bytes are not one."""
+    import numpy as np
+
     if not data.startswith(MAGIC):
         raise ValueError("not a cache entry")
     pos = len(MAGIC)
@@ -320,6 +416,10 @@ def unpack(data: bytes) -> tuple[dict, np.ndarray]:
 
 def encode_entry(outcome: MeshSolids | MeshError, faces: int, key: str) -> bytes:
     """The bytes of one entry: solids, or the repair's error message for a mesh it rejects."""
+    import numpy as np
+
+    from .solids import MeshSolids, Solid
+
     header: dict[str, Any] = {"format": CACHE_FORMAT, "key": key, "faces": int(faces),
                               "solid_fields": _field_names(Solid),
                               "mesh_fields": _field_names(MeshSolids)}
@@ -339,6 +439,10 @@ def encode_entry(outcome: MeshSolids | MeshError, faces: int, key: str) -> bytes
 
 def decode_entry(data: bytes, key: str) -> tuple[MeshSolids | MeshError, int] | None:
     """Validate and rebuild an entry; None for anything foreign, stale or corrupt."""
+    import numpy as np
+
+    from .solids import MeshSolids, Solid
+
     header, numbers = unpack(data)
     if header.get("format") != CACHE_FORMAT or header.get("key") != key:
         return None  # another layout, or copied/renamed from elsewhere

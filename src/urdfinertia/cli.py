@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import sys
 import traceback
 import warnings
@@ -32,18 +33,39 @@ COMMANDS = {
 }
 
 
-def _available() -> dict[str, object]:
-    mods = {}
+def _available(load: Sequence[str] | None = None) -> dict[str, object | None]:
+    """Subcommand modules that exist, by name; only those in ``load`` (default: all) are
+    imported, the others are None (each pulls in what its command computes with)."""
+    mods: dict[str, object | None] = {}
     for name in COMMANDS:
+        module = f"urdfinertia.cli_{name}"
+        if load is not None and name not in load:
+            if importlib.util.find_spec(module) is not None:
+                mods[name] = None
+            continue
         try:
-            mods[name] = importlib.import_module(f"urdfinertia.cli_{name}")
+            mods[name] = importlib.import_module(module)
         except ModuleNotFoundError as exc:
-            if exc.name != f"urdfinertia.cli_{name}":
+            if exc.name != module:
                 raise
     return mods
 
 
-def build_parser() -> tuple[argparse.ArgumentParser, dict[str, object]]:
+def _command_in(argv: Sequence[str]) -> str | None:
+    """The subcommand ``argv`` names: its first word that is not an option (the main
+    parser's own options take no value)."""
+    for arg in argv:
+        if arg == "--":
+            return None
+        if not arg.startswith("-"):
+            return arg if arg in COMMANDS else None
+    return None
+
+
+def build_parser(argv: Sequence[str] | None = None,
+                 ) -> tuple[argparse.ArgumentParser, dict[str, object | None]]:
+    """The parser; given ``argv``, only the subcommand it names gets its full arguments
+    (the others keep their one-line help), so one command does not import all."""
     parser = OneLineArgumentParser(
         prog="urdf-inertia",
         description="Make the <inertial> tags of URDF robot descriptions right.",
@@ -51,9 +73,15 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, object]]:
     parser.add_argument("--version", action="version", version=f"urdf-inertia {__version__}")
     parser.add_argument("--debug", action="store_true", help="show tracebacks on errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    mods = _available()
+    if argv is None:
+        mods = _available()
+    else:
+        command = _command_in(argv)
+        mods = _available([command] if command is not None else [])
     for name, mod in mods.items():
         p = sub.add_parser(name, help=COMMANDS[name], description=COMMANDS[name])
+        if mod is None:
+            continue
         p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                        help="show tracebacks on errors")
         mod.add_arguments(p)  # type: ignore[attr-defined]
@@ -74,11 +102,15 @@ class OneLineArgumentParser(argparse.ArgumentParser):
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser, mods = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser, mods = build_parser(argv)
     args = parser.parse_args(argv)
     if not args.command:
         parser.print_help(sys.stderr)
         return EXIT_ERROR
+    if mods.get(args.command) is None:  # named where _command_in does not look: all of them
+        parser, mods = build_parser()
+        args = parser.parse_args(argv)
     try:
         with warnings.catch_warnings():
             if not args.debug:

@@ -7,15 +7,14 @@ import json
 import sys
 from pathlib import Path
 
-from rich.console import Console
-
 from .atomic import atomic_write_bytes, write_in_place
 from .batch_cli import add_batch_arguments, finish_single, is_batch, run_many, single_file_library
 from .errors import OutputError, UrdfInertiaError
 from .fix import GEOMETRY_MODES, MASS_MODES, FixOptions, fix_file
-from .mesh_io import BYTES_PER_FACE, DEFAULT_MAX_FACES
-from .results_json import fix_result_dict
-from .table import print_fix_table
+from .limits import BYTES_PER_FACE, DEFAULT_MAX_FACES
+
+# rich (tables) and the JSON writer are imported when they are used: a quiet batch run
+# whose results are all cached needs neither.
 
 
 def package_dir(text: str) -> tuple[str, Path]:
@@ -123,7 +122,11 @@ def run(args: argparse.Namespace) -> int:
         raise OutputError("output is the input file: use --in-place", file=args.output)
     # everything is computed before the first write; the URDF (the file that matters)
     # is written first, so a failure leaves at most the JSON missing
-    text = json.dumps(fix_result_dict(result), indent=2) if args.json is not None else None
+    text = None
+    if args.json is not None:
+        from .results_json import fix_result_dict
+
+        text = json.dumps(fix_result_dict(result), indent=2)
     if args.in_place:
         if result.changed:
             write_in_place(args.urdf, result.output)
@@ -132,6 +135,10 @@ def run(args: argparse.Namespace) -> int:
     if text is not None:
         atomic_write_bytes(args.json, text.encode())
     if not args.quiet:
+        from rich.console import Console
+
+        from .table import print_fix_table
+
         console = Console(stderr=args.output is None and not args.in_place, width=160)
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
     if args.output is None and not args.in_place:

@@ -29,7 +29,7 @@ def content_digest(data: bytes) -> str:
     return hashlib.blake2b(data, digest_size=20).hexdigest()
 
 
-def file_digest(path: Path, max_bytes: int) -> str | None:
+def file_digest(path: str | Path, max_bytes: int) -> str | None:
     """:func:`content_digest` of a regular file of at most ``max_bytes``, read in chunks.
 
     None for anything else: a FIFO (whose opening would block) or a huge file is not read.
@@ -68,7 +68,7 @@ class FileDigests:
                 pass
         return self._memo
 
-    def digest(self, path: Path, max_bytes: int) -> str | None:
+    def digest(self, path: str | Path, max_bytes: int) -> str | None:
         """The content digest of ``path``, from the memo when its stat signature matches."""
         try:
             info = os.stat(path)

@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
-import multiprocessing
 import threading
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from .errors import UrdfInertiaError
+
+if TYPE_CHECKING:
+    import multiprocessing.context
 
 
 class ClusterError(UrdfInertiaError):
@@ -17,6 +20,8 @@ class ClusterError(UrdfInertiaError):
 
 def _mp_context() -> multiprocessing.context.BaseContext:
     """fork when it is safe (no threads to inherit), else forkserver or spawn."""
+    import multiprocessing  # only with workers: a serial or warm run does not need it
+
     methods = multiprocessing.get_all_start_methods()
     if "fork" in methods and threading.active_count() == 1:
         return multiprocessing.get_context("fork")

@@ -7,20 +7,23 @@ Data flow: read (:mod:`urdf_read`) -> parts (:mod:`parts`) -> assemble (:mod:`as
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from .assemble import Assembly, assemble
 from .errors import UrdfInertiaError
-from .mesh_io import DEFAULT_MAX_FACES
-from .meshlib import MeshLibrary
-from .parts import Part, geometry_parts
-from .urdf_model import GeometryRef, Inertial, Link, Robot
-from .urdf_read import read_urdf
-from .urdf_write import patch_inertials
+from .limits import DEFAULT_MAX_FACES
+
+if TYPE_CHECKING:
+    from .assemble import Assembly
+    from .meshlib import MeshLibrary
+    from .parts import Part
+    from .urdf_model import GeometryRef, Inertial, Link, Robot
+
+# The computing modules (numpy, lxml, the mesh readers) are imported by the functions that
+# use them: a warm batch run needs only FixOptions and reuses every result.
 
 GEOMETRY_MODES = ("auto", "collision", "visual")
 MASS_MODES = ("keep", "density")
@@ -50,7 +53,7 @@ class FixOptions:
             raise ValueError(f"geometry must be one of {GEOMETRY_MODES}")
         if self.mass not in MASS_MODES:
             raise ValueError(f"mass must be one of {MASS_MODES}")
-        if not (np.isfinite(self.density) and self.density > 0):
+        if not (math.isfinite(self.density) and self.density > 0):
             raise ValueError("density must be positive")
 
 
@@ -70,6 +73,8 @@ class LinkResult:
         """A length scale of the link (radius of gyration plus CoM offset), m."""
         if self.assembly is None:
             return 0.0
+        import numpy as np
+
         t = self.assembly.total
         return float(np.sqrt(np.trace(t.inertia) / t.mass) + np.linalg.norm(t.com))
 
@@ -105,6 +110,9 @@ def existing_mass(link: Link) -> float | None:
 def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir: Path,
                  ) -> LinkResult:
     """Recompute one link, or report why it stays untouched."""
+    from .assemble import assemble
+    from .parts import geometry_parts
+
     spec = options.spec
     link_spec = spec.link(link.name) if spec is not None else None  # type: ignore[attr-defined]
     if link_spec is not None:
@@ -138,6 +146,8 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir:
 
 
 def _warnings(parts: list[Part], result: Assembly) -> tuple[str, ...]:
+    import numpy as np
+
     out: list[str] = []
     for p in parts:
         for note in p.notes:
@@ -165,6 +175,9 @@ def _warnings(parts: list[Part], result: Assembly) -> tuple[str, ...]:
 def fix_robot(robot: Robot, data: bytes, options: FixOptions,
               meshes: MeshLibrary | None = None) -> FixResult:
     """Recompute all links of ``robot`` and return the patched document."""
+    from .meshlib import MeshLibrary
+    from .urdf_write import patch_inertials
+
     path = robot.path or Path("robot.urdf")
     if meshes is None:
         meshes = MeshLibrary(options.package_dirs, options.max_faces)
@@ -187,5 +200,7 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
 
 def fix_file(path: str | Path, options: FixOptions,
              meshes: MeshLibrary | None = None) -> FixResult:
+    from .urdf_read import read_urdf
+
     robot, data = read_urdf(path)
     return fix_robot(robot, data, options, meshes)

@@ -13,6 +13,7 @@ centre of mass (eqs. 43-44).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -31,7 +32,7 @@ def point_mass_inertia(mass: float, offset: ArrayLike) -> np.ndarray:
     This is the Huygens-Steiner term of eq. 43.
     """
     r = np.asarray(offset, dtype=np.float64)
-    return mass * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
+    return mass * (np.dot(r, r) * _EYE - np.outer(r, r))
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,18 +62,25 @@ class MassProperties:
             raise ValueError(f"com must have shape (3,), got {com.shape}")
         if inertia.shape != (3, 3):
             raise ValueError(f"inertia must have shape (3, 3), got {inertia.shape}")
-        if not (np.isfinite(mass) and np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
+        if not (math.isfinite(mass) and _finite(com) and _finite(inertia)):
             raise ValueError("mass properties must be finite")
-        scale = max(float(np.abs(inertia).max()), np.finfo(float).tiny)
-        if np.abs(inertia - inertia.T).max() > SYMMETRY_RTOL * scale:
+        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = inertia.tolist()
+        scale = max(abs(a00), abs(a01), abs(a02), abs(a10), abs(a11), abs(a12), abs(a20),
+                    abs(a21), abs(a22), _TINY)
+        if max(abs(a01 - a10), abs(a02 - a20), abs(a12 - a21)) > SYMMETRY_RTOL * scale:
             raise ValueError("inertia tensor must be symmetric")
         inertia = 0.5 * (inertia + inertia.T)
-        eig = np.linalg.eigvalsh(inertia)
+        (s00, s01, s02), (_, s11, s12), (_, _, s22) = inertia.tolist()
         slack = DEFINITENESS_RTOL * abs(float(np.trace(inertia)))
-        if mass >= 0 and eig[0] < -slack:
-            raise ValueError(f"inertia of a positive mass must be positive semi-definite: {eig}")
-        if mass < 0 and eig[-1] > slack:
-            raise ValueError(f"inertia of a cavity must be negative semi-definite: {eig}")
+        sign = 1.0 if mass >= 0 else -1.0
+        if not _surely_semidefinite(sign * s00, sign * s01, sign * s02, sign * s11,
+                                    sign * s12, sign * s22, slack):
+            eig = np.linalg.eigvalsh(inertia)  # near the limit: the test as specified
+            if mass >= 0 and eig[0] < -slack:
+                raise ValueError("inertia of a positive mass must be positive semi-definite: "
+                                 f"{eig}")
+            if mass < 0 and eig[-1] > slack:
+                raise ValueError(f"inertia of a cavity must be negative semi-definite: {eig}")
         com.setflags(write=False)
         inertia.setflags(write=False)
         object.__setattr__(self, "mass", mass)
@@ -91,18 +99,16 @@ class MassProperties:
         """
         mass = float(mass)
         com = np.array(com, dtype=np.float64).reshape(-1)
-        inertia = np.array(inertia, dtype=np.float64)
         if com.shape != (3,):
             raise ValueError(f"com must have shape (3,), got {com.shape}")
-        if not (np.isfinite(mass) and np.isfinite(com).all() and np.isfinite(inertia).all()):
+        inertia = np.asarray(inertia, dtype=np.float64)
+        if not (math.isfinite(mass) and _finite(com) and _finite(inertia)):
             raise ValueError("mass properties must be finite")
-        inertia = 0.5 * (inertia + inertia.T)
+        inertia = 0.5 * (inertia + inertia.T)  # a new array: nothing else refers to it
         com.setflags(write=False)
         inertia.setflags(write=False)
         body = object.__new__(cls)
-        object.__setattr__(body, "mass", mass)
-        object.__setattr__(body, "com", com)
-        object.__setattr__(body, "inertia", inertia)
+        body.__dict__.update(mass=mass, com=com, inertia=inertia)  # frozen: no __setattr__
         return body
 
     # --- named constructors -------------------------------------------------------
@@ -141,7 +147,12 @@ class MassProperties:
         t = np.asarray(transform, dtype=np.float64)
         if t.shape != (4, 4):
             raise ValueError(f"transform must have shape (4, 4), got {t.shape}")
-        return self.rotated(t[:3, :3]).translated(t[:3, 3])
+        # rotated(...).translated(...) without the body in between: the same operations
+        # on the same values (the tensor is symmetrised after each step, as there)
+        a = _rotation(t[:3, :3])
+        inertia = a @ self.inertia @ a.T
+        inertia = 0.5 * (inertia + inertia.T)
+        return MassProperties._derived(self.mass, a @ self.com + t[:3, 3], inertia)
 
     def about(self, point: ArrayLike) -> np.ndarray:
         """Inertia tensor about ``point`` along F's axes (Huygens-Steiner, eq. 43)."""
@@ -210,6 +221,15 @@ def combine(bodies: Iterable[MassProperties]) -> MassProperties:
 
 
 _EYE = np.eye(3)
+_EYE.setflags(write=False)
+_ORTHONORMAL_TOLERANCE = 1e-9 + 1e-5 * _EYE
+_TINY = float(np.finfo(float).tiny)
+
+
+def _finite(a: np.ndarray) -> bool:
+    """All entries finite (one reduction: a sum is finite only if every term is, and a
+    sum that overflows is checked entry by entry)."""
+    return math.isfinite(a.sum()) or bool(np.isfinite(a).all())
 
 
 def _rotation(rotation: ArrayLike) -> np.ndarray:
@@ -217,6 +237,48 @@ def _rotation(rotation: ArrayLike) -> np.ndarray:
     if a.shape != (3, 3):
         raise ValueError(f"rotation must have shape (3, 3), got {a.shape}")
     # np.allclose(a a^T, E, atol=1e-9) spelt out: the same test at a tenth of the cost
-    if not np.all(np.abs(a @ a.T - _EYE) <= 1e-9 + 1e-5 * _EYE) or np.linalg.det(a) < 0:
+    if not (np.abs(a @ a.T - _EYE) <= _ORTHONORMAL_TOLERANCE).all():
+        raise ValueError("rotation must be a proper orthonormal matrix")
+    # orthonormal to 1e-9, det(a) is +-1 to ~1e-9: the sign of the triple product is the
+    # sign np.linalg.det finds
+    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = a.tolist()
+    if a00 * (a11 * a22 - a12 * a21) - a01 * (a10 * a22 - a12 * a20) \
+            + a02 * (a10 * a21 - a11 * a20) < 0:
         raise ValueError("rotation must be a proper orthonormal matrix")
     return a
+
+
+#: Margin of :func:`_surely_semidefinite`, relative to the tensor's largest entry: far
+#: above the round-off of a 3 x 3 LDL^T factorisation (~1e-15) and of LAPACK's
+#: eigenvalues (~1e-14) both, far below the tolerance itself (1e-9 of the trace).
+_SEMIDEFINITE_MARGIN = 1e-12
+#: Entries outside this range take the eigenvalue test: no underflow or overflow below.
+_SEMIDEFINITE_RANGE = (1e-150, 1e150)
+
+
+def _surely_semidefinite(s00: float, s01: float, s02: float, s11: float, s12: float,
+                         s22: float, slack: float) -> bool:
+    """True when the symmetric tensor's smallest eigenvalue is above ``-slack`` by a margin
+    no round-off can cross, so that ``np.linalg.eigvalsh`` would find it above ``-slack``
+    too; False when in doubt (the caller then computes the eigenvalues).
+
+    The tensor shifted by ``slack - margin`` is factorised as ``L D L^T``: all pivots
+    positive proves it positive definite up to the factorisation's round-off (backward
+    stable for a positive definite matrix), far smaller than the margin.
+    """
+    scale = max(abs(s00), abs(s01), abs(s02), abs(s11), abs(s12), abs(s22))
+    if not _SEMIDEFINITE_RANGE[0] < scale < _SEMIDEFINITE_RANGE[1]:
+        return False
+    # 3 x the largest entry bounds the spectral norm of a 3 x 3 matrix
+    shift = slack - _SEMIDEFINITE_MARGIN * 3.0 * scale
+    d0 = s00 + shift
+    if not d0 > 0.0:
+        return False
+    l10 = s01 / d0
+    l20 = s02 / d0
+    d1 = s11 + shift - l10 * s01
+    if not d1 > 0.0:
+        return False
+    r21 = s12 - l20 * s01
+    d2 = s22 + shift - l20 * s02 - r21 * r21 / d1
+    return d2 > 0.0  # False for nan (overflow) too

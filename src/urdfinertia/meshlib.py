@@ -10,7 +10,7 @@ from . import solids as solids_module
 from .cache import SolidsCache, file_entry_key
 from .errors import MeshError
 from .mesh_io import DEFAULT_MAX_FACES, TriangleMesh, load_mesh, max_mesh_bytes
-from .paths import resolve_mesh_path
+from .paths import RealPaths, resolve_mesh_path
 from .solids import MeshSolids
 from .timing import StageTimes
 
@@ -115,8 +115,12 @@ class MeshLibrary:
         self.timer = timer if timer is not None else StageTimes()
         self._memo: dict[Path, MeshSolids | Exception] = {}
         self._resolved: dict[tuple[str, Path], Path | MeshError] = {}
-        #: When a list, every successful :meth:`resolve` appends (uri, urdf_dir, path):
-        #: what a file's result depends on (:mod:`urdfinertia.file_cache`).
+        self._records: dict[tuple[str, Path], tuple[str, str, str]] = {}
+        self._real_path = RealPaths()
+        self._keys: dict[Path, Path] = {}
+        #: When a list, every :meth:`resolve` appends (uri, urdf_dir, path), both resolved
+        #: (path "" when the URI does not resolve): what a file's result depends on
+        #: (:mod:`urdfinertia.file_cache`).
         self.trace: list[tuple[str, str, str]] | None = None
 
     def resolve(self, uri: str, urdf_dir: Path) -> Path:
@@ -129,22 +133,40 @@ class MeshLibrary:
             except MeshError as exc:
                 found = exc
             self._resolved[key] = found
+        if self.trace is not None:
+            self.trace.append(self._record(key, found))
         if isinstance(found, MeshError):
             raise fresh(found)
-        if self.trace is not None:  # absolute: the record must not depend on the cwd
-            self.trace.append((uri, str(urdf_dir.resolve()), str(found.resolve())))
         return found
+
+    def _record(self, key: tuple[str, Path], found: Path | MeshError) -> tuple[str, str, str]:
+        """The trace entry of a resolution, memoised (absolute: it must not depend on the
+        working folder)."""
+        record = self._records.get(key)
+        if record is None:
+            uri, urdf_dir = key
+            record = (uri, self._real_path(urdf_dir),
+                      "" if isinstance(found, MeshError) else self._real_path(found))
+            self._records[key] = record
+        return record
+
+    def _key(self, path: Path) -> Path:
+        """``path.resolve()``, memoised: the key of :attr:`_memo`."""
+        key = self._keys.get(path)
+        if key is None:
+            key = self._keys[path] = Path(self._real_path(path))
+        return key
 
     def seed(self, path: Path, outcome: MeshSolids | Exception) -> None:
         """Record a result computed elsewhere (another process) for the file at ``path``."""
-        self._memo[Path(path).resolve()] = outcome
+        self._memo[self._key(Path(path))] = outcome
 
     def known(self, path: Path) -> bool:
-        return Path(path).resolve() in self._memo
+        return self._key(Path(path)) in self._memo
 
     def solids(self, path: Path) -> MeshSolids:
         """Unscaled solids of the mesh file at ``path``."""
-        key = path.resolve()
+        key = self._key(path)
         found = self._memo.get(key)
         if found is None:
             try:
@@ -161,3 +183,13 @@ class MeshLibrary:
                 exc.args = (exc.cause,)
             raise exc
         return found
+
+    def failed_for_bytes_only(self, trace: list[tuple[str, str, str]]) -> bool:
+        """True when no mesh of ``trace`` (see :attr:`trace`) failed for a reason other
+        than its bytes (:func:`cacheable`): a file error then depends on its inputs alone."""
+        for _, _, path in trace:
+            if path:
+                found = self._memo.get(Path(path))
+                if isinstance(found, Exception) and not cacheable(found, Path(path)):
+                    return False
+        return True

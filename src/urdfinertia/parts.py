@@ -9,6 +9,7 @@ moves it to the link's centre of mass.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -80,7 +81,7 @@ def shape_solids(shape: Shape, meshes: MeshLibrary, urdf_dir: Path,
         path = meshes.resolve(shape.filename, urdf_dir)
         found = meshes.solids(path).scaled(shape.scale)
         out = []
-        mirrored = float(np.prod(shape.scale)) < 0
+        mirrored = math.prod(shape.scale) < 0  # the sign of np.prod's product, exactly
         for solid in found.solids:
             notes = solid.notes + found.notes + (("mirrored by scale",) if mirrored else ())
             try:

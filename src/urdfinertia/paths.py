@@ -121,3 +121,45 @@ def resolve_mesh_path(
         # a FIFO, device or folder: reading could block forever or never end
         raise MeshError(f"mesh {uri!r} is not a regular file (looked at {path})")
     return path
+
+
+class RealPaths:
+    """``str(Path(p).resolve())`` for many paths, memoising resolved folders.
+
+    ``Path.resolve`` checks every component of every path (one ``lstat`` each), while the
+    files of a run share few folders. Here each component is appended to its resolved
+    parent (one ``lstat`` per new file or folder; ``..`` takes the parent's folder), as
+    ``realpath`` does; a path that meets a symbolic link is resolved by ``Path.resolve``
+    itself. The memo assumes that files and folders are not replaced by links (or links
+    retargeted) during the life of the object (one run).
+    """
+
+    def __init__(self) -> None:
+        self._known: dict[str, str | None] = {}  # None: a link on the way
+
+    def __call__(self, path: str | os.PathLike[str]) -> str:
+        text = os.fspath(path)
+        if not os.path.isabs(text):  # the memo must not depend on the working folder
+            text = os.path.join(os.getcwd(), text)
+        found = self._resolve(text)
+        return str(Path(text).resolve()) if found is None else found
+
+    def _resolve(self, text: str) -> str | None:
+        if text in self._known:
+            return self._known[text]
+        head, tail = os.path.split(text)
+        found: str | None
+        if head == text:  # the root
+            found = str(Path(text).resolve())
+        else:
+            found = self._resolve(head)
+            if found is None or tail in ("", "."):
+                pass
+            elif tail == "..":
+                found = os.path.dirname(found)
+            else:
+                found = os.path.join(found, tail)
+                if os.path.islink(found):
+                    found = None
+        self._known[text] = found
+        return found

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .massprops import MassProperties
+from .massprops import _EYE, MassProperties
 
 #: The contraction orders ``optimize=True`` finds for the two second-moment sums, for
 #: every face count (``(x x^T)`` first, then ``det``; ``det s`` first), given so that each
@@ -27,10 +27,26 @@ def used_vertices(n: int, faces: np.ndarray) -> np.ndarray:
     return used
 
 
+def cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.cross(a, b)`` of two (n, 3) float64 arrays, bit for bit: the same products and
+    differences (``a1 b2 - a2 b1``, ...), without its axis handling and temporaries."""
+    a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
+    b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
+    out = np.empty((len(a), 3))
+    tmp = np.empty(len(a))
+    np.multiply(a1, b2, out=out[:, 0])
+    out[:, 0] -= np.multiply(a2, b1, out=tmp)
+    np.multiply(a2, b0, out=out[:, 1])
+    out[:, 1] -= np.multiply(a0, b2, out=tmp)
+    np.multiply(a0, b1, out=out[:, 2])
+    out[:, 2] -= np.multiply(a1, b0, out=tmp)
+    return out
+
+
 def face_volumes(triangles: np.ndarray) -> np.ndarray:
     """(n,) signed volume of each face's tetrahedron with the origin."""
     tri = np.asarray(triangles, dtype=np.float64)
-    return np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
+    return np.einsum("ij,ij->i", tri[:, 0], cross_rows(tri[:, 1], tri[:, 2])) / 6.0
 
 
 def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.ndarray, np.ndarray]:
@@ -57,10 +73,15 @@ def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.nd
         raise ValueError(f"faces must have shape (m, 3), got {f.shape}")
     if len(f) == 0:
         return 0.0, np.zeros(3), np.zeros((3, 3))
-    centre = v[used_vertices(len(v), f)].mean(axis=0)
-    tri = v[f] - centre
-    det = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2]))
-    total = tri.sum(axis=1)
+    used = used_vertices(len(v), f)
+    # the mean of the used vertices (all of them, usually: no copy then)
+    centre = (v if used.all() and v.flags.c_contiguous else v[used]).mean(axis=0)
+    # the vertices moved once, then gathered: the same numbers as v[f] - centre
+    tri = (v - centre)[f]
+    t0, t1, t2 = tri[:, 0], tri[:, 1], tri[:, 2]
+    det = np.einsum("ij,ij->i", t0, cross_rows(t1, t2))
+    total = t0 + t1  # (t0 + t1) + t2, the order of tri.sum(axis=1)
+    total += t2
     # Per tetrahedron (0, v0, v1, v2) with det = v0 . (v1 x v2): volume det/6,
     # integral(x dV) = det (v0+v1+v2)/24 and integral(x x^T dV) = det/120 (sum v v^T + s s^T);
     # summed over faces without building (m, 3, 3) intermediates.
@@ -90,7 +111,7 @@ def mass_properties_from_integrals(
     # central covariance, then the URDF tensor tr(C) E - C
     cov = second - volume * np.outer(com, com)
     cov = 0.5 * (cov + cov.T)
-    inertia = density * (np.trace(cov) * np.eye(3) - cov)
+    inertia = density * (np.trace(cov) * _EYE - cov)
     return MassProperties(density * volume, com, inertia)
 
 

@@ -41,6 +41,11 @@ _ENCODINGS = {"utf-8", "utf8", "us-ascii", "ascii"}
 #: A decimal number as XML Schema writes a double, without NaN/INF (checked separately)
 #: and without what Python's ``float`` also takes (``1_0``, non-ASCII digits, spaces).
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
+_NUMBER_MATCH = _NUMBER.match
+#: Attribute texts already read without error, by (text, count): most are repeated ("0 0 0",
+#: "1 1 1", the same inertia in mirrored links). Bounded: cleared when full.
+_VALID_NUMBERS: dict[tuple[str, int], tuple[float, ...]] = {}
+_MAX_VALID_NUMBERS = 1 << 16
 
 
 def make_parser() -> etree.XMLParser:
@@ -158,19 +163,25 @@ class _Ctx:
         text = el.get(attr, default)
         if text is None:
             raise self.error(f"<{el.tag}> is missing attribute '{attr}'", el)
+        known = _VALID_NUMBERS.get((text, n))
+        if known is not None:
+            return known
         shown = text if len(text) <= 80 else text[:77] + "..."
         parts = text.split()
         if len(parts) != n:
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> needs {n} numbers", el)
-        if not all(_NUMBER.match(p) for p in parts):
+        if not all(map(_NUMBER_MATCH, parts)):
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is not a number", el)
-        values = tuple(float(p) for p in parts)
-        if not all(math.isfinite(v) for v in values):
+        values = tuple(map(float, parts))
+        if not all(map(math.isfinite, values)):
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (not finite)",
                              el)
-        if any(abs(v) > MAX_MAGNITUDE for v in values):
+        if values and max(map(abs, values)) > MAX_MAGNITUDE:  # all finite here
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (magnitude "
                              f"above {MAX_MAGNITUDE:g})", el)
+        if len(_VALID_NUMBERS) >= _MAX_VALID_NUMBERS:
+            _VALID_NUMBERS.clear()
+        _VALID_NUMBERS[text, n] = values
         return values
 
     def positive(self, el: etree._Element, attr: str, n: int = 1) -> tuple[float, ...]:

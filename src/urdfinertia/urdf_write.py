@@ -41,6 +41,9 @@ def _attribute_text(raw: bytes) -> str:
     return _REFERENCE.sub(_decode_reference, raw.decode("utf-8"))
 
 
+_OFF_DIAGONAL = ~np.eye(3, dtype=bool)
+_OFF_DIAGONAL.setflags(write=False)
+
 #: Off-diagonal products and CoM components smaller than this fraction of the largest
 #: principal moment (or of the geometry's size) are round-off and written as 0.
 NOISE_RTOL = 1e-12
@@ -64,36 +67,49 @@ def _line_indent(data: bytes, pos: int) -> bytes:
     return prefix if prefix.strip() == b"" else b""
 
 
+#: The next markup at or after a position, classified in the order the scanner tests:
+#: 1 comment, 2 CDATA, 3 processing instruction, 4 other declaration, 5-8 a tag (as
+#: ``_TAG``); nothing captured: a ``<`` that starts none of them.
+_TOKEN = re.compile(
+    rb"<(?:(!--)|(!\[CDATA\[)|(\?)|(!)"
+    rb"|(/?)([^\s/>!?]+)((?:\s+[^\s=/>]+\s*=\s*(?:\"[^\"]*\"|'[^']*'))*)\s*(/?)>)?",
+    re.DOTALL,
+)
+
+
 def scan_links(data: bytes) -> dict[str, LinkSpan]:
-    """Find every ``<robot>``-level ``<link>`` and its ``<inertial>`` span."""
+    """Find every ``<robot>``-level ``<link>`` and its ``<inertial>`` span.
+
+    One regular-expression search per piece of markup (``_TOKEN``) finds the next ``<`` and
+    what it starts; comments, CDATA, processing instructions and declarations are skipped.
+    """
     spans: dict[str, LinkSpan] = {}
     stack: list[bytes] = []
     pos = 0
     n = len(data)
     current: dict | None = None
+    search = _TOKEN.search
     while True:
-        lt = data.find(b"<", pos)
-        if lt < 0:
+        m = search(data, pos)
+        if m is None:
             break
-        if data.startswith(b"<!--", lt):
-            end = data.find(b"-->", lt + 4)
-            pos = n if end < 0 else end + 3
+        lt = m.start()
+        comment, cdata, pi, declaration, closing, name, attrs, selfclose = m.groups()
+        if name is None:
+            if comment:
+                end = data.find(b"-->", lt + 4)
+                pos = n if end < 0 else end + 3
+            elif cdata:
+                end = data.find(b"]]>", lt)
+                pos = n if end < 0 else end + 3
+            elif pi:
+                end = data.find(b"?>", lt)
+                pos = n if end < 0 else end + 2
+            elif declaration:
+                pos = _skip_declaration(data, lt)
+            else:
+                raise UrdfError(f"cannot locate tag at byte {lt}")
             continue
-        if data.startswith(b"<![CDATA[", lt):
-            end = data.find(b"]]>", lt)
-            pos = n if end < 0 else end + 3
-            continue
-        if data.startswith(b"<?", lt):
-            end = data.find(b"?>", lt)
-            pos = n if end < 0 else end + 2
-            continue
-        if data.startswith(b"<!", lt):
-            pos = _skip_declaration(data, lt)
-            continue
-        m = _TAG.match(data, lt)
-        if not m:
-            raise UrdfError(f"cannot locate tag at byte {lt}")
-        closing, name, attrs, selfclose = m.group(1), m.group(2), m.group(3), m.group(4)
         pos = m.end()
         if closing:
             if stack and stack[-1] == name:
@@ -108,7 +124,7 @@ def scan_links(data: bytes) -> dict[str, LinkSpan]:
             raw = (am.group(1) if am.group(1) is not None else am.group(2)) if am else b""
             current = {
                 "name": _attribute_text(raw),
-                "start_tag_end": m.end(),
+                "start_tag_end": pos,
                 "inertial": None,
                 "first_child_indent": None,
                 "link_indent": _line_indent(data, lt),
@@ -123,9 +139,9 @@ def scan_links(data: bytes) -> dict[str, LinkSpan]:
                 current["first_child_indent"] = _line_indent(data, lt)
             if name == b"inertial" and current["inertial"] is None:
                 if selfclose:
-                    current["inertial"] = (lt, m.end())
+                    current["inertial"] = (lt, pos)
                 else:
-                    close = data.find(b"</inertial", m.end())
+                    close = data.find(b"</inertial", pos)
                     end = data.find(b">", close) + 1
                     if close < 0 or end <= 0:
                         raise UrdfError("unterminated <inertial>")
@@ -171,7 +187,7 @@ def clean(props: MassProperties, size: float) -> tuple[np.ndarray, np.ndarray]:
     com[np.abs(com) < NOISE_RTOL * max(size, 1e-300)] = 0.0
     inertia = np.array(props.inertia)
     scale = float(np.abs(np.diag(inertia)).max())
-    off = ~np.eye(3, dtype=bool)
+    off = _OFF_DIAGONAL
     inertia[off & (np.abs(inertia) < NOISE_RTOL * scale)] = 0.0
     return com, inertia
 
