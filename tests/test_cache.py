@@ -282,16 +282,6 @@ def test_local_imports_text_scan_matches_the_syntax_tree():
     assert local_imports("from . import a, b as c\nfrom .x import (y,\n z)\n") == {"a", "b", "x"}
 
 
-def test_mesh_limits_are_the_readers_limits():
-    from urdfinertia import limits, mesh_io
-
-    assert limits.DEFAULT_MAX_FACES == mesh_io.DEFAULT_MAX_FACES
-    assert limits.BYTES_PER_FACE == mesh_io.BYTES_PER_FACE
-    assert limits.BASE_MESH_BYTES == mesh_io.BASE_MESH_BYTES
-    for faces in (0, 10, 10**6):
-        assert limits.max_mesh_bytes(faces) == mesh_io.max_mesh_bytes(faces)
-
-
 def test_algorithm_version_is_read_from_the_solids_source(monkeypatch):
     from urdfinertia import solids
 

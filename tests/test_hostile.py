@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from urdfinertia import cli, mesh_io, urdf_read
+from urdfinertia import cli, limits, mesh_io, urdf_read
 from urdfinertia.errors import MeshError
 
 URDF = """<?xml version="1.0"?>
@@ -427,7 +427,7 @@ def test_mesh_over_face_limit_names_limit_and_option(workdir, capsys, monkeypatc
 
 def test_mesh_over_byte_limit_refused_before_reading(workdir, capsys, monkeypatch):
     """A file larger than the byte budget is refused on its size alone."""
-    monkeypatch.setattr(mesh_io, "BASE_MESH_BYTES", 0)
+    monkeypatch.setattr(limits, "BASE_MESH_BYTES", 0)
 
     def no_open(*args, **kwargs):
         raise AssertionError("an over-size mesh was opened")

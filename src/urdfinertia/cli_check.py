@@ -18,7 +18,7 @@ from .atomic import atomic_write_bytes
 from .check import SEVERITIES, Finding, check_robot
 from .cli_fix import package_dir
 from .fix import GEOMETRY_MODES, FixOptions
-from .mesh_io import DEFAULT_MAX_FACES
+from .limits import DEFAULT_MAX_FACES
 from .meshlib import MeshLibrary
 from .raw_inertial import read_urdf_lenient
 

@@ -6,27 +6,26 @@ import copy
 from collections.abc import Mapping
 from pathlib import Path
 
-from . import solids as solids_module
 from .cache import SolidsCache, file_entry_key
 from .errors import MeshError
-from .mesh_io import DEFAULT_MAX_FACES, TriangleMesh, load_mesh, max_mesh_bytes
+from .limits import DEFAULT_MAX_FACES, max_mesh_bytes
+from .mesh_io import TriangleMesh, load_mesh
 from .paths import RealPaths, resolve_mesh_path
-from .solids import MeshSolids
+from .repair import repair_mesh
+from .solids import MeshSolids, integrate_repaired
 from .timing import StageTimes
 
 
 def integrate_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> MeshSolids:
-    """Repair and integrate ``mesh``, timing the two stages separately where possible."""
+    """Repair and integrate ``mesh``, timing repair, boolean unions and integration apart."""
     timer = timer if timer is not None else StageTimes()
-    repair = getattr(solids_module, "repair_mesh", None)
-    integrate = getattr(solids_module, "integrate_repaired", None)
-    if repair is None or integrate is None:
-        with timer.stage("repair"):  # one opaque stage: repair and integration together
-            return solids_module.mesh_solids(mesh)
+    unions = StageTimes()
     with timer.stage("repair"):
-        repaired = repair(mesh)
+        repaired = repair_mesh(mesh, unions)
+    timer.add("repair", -unions.get("union"))  # counted on its own below
+    timer.merge(unions)
     with timer.stage("integration"):
-        return integrate(repaired)
+        return integrate_repaired(repaired)
 
 
 def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:

@@ -15,6 +15,7 @@ STAGES = (
     "xml",  # read and parse the URDF
     "mesh read",  # parse mesh files into triangles
     "repair",  # weld, orient, close: mesh -> repaired bodies
+    "union",  # boolean unions of overlapping bodies (manifold3d), not counted in repair
     "integration",  # volume integrals of the repaired bodies
     "cache",  # hash mesh bytes, read and write cache entries
     "assemble",  # parts -> link totals -> patched document
