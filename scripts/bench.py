@@ -51,9 +51,25 @@ def example_robot_data() -> Path:
 def peak_mb() -> tuple[float, float]:
     """(this process, largest reaped child) peak resident memory in MB (Linux: KiB units)."""
     unit = 1024 if sys.platform != "darwin" else 1
-    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * unit / 2**20
     kids = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * unit / 2**20
-    return own, kids
+    return own_peak_mb(), kids
+
+
+def own_peak_mb() -> float:
+    """This process's peak resident memory, MB.
+
+    Linux's ``ru_maxrss`` survives ``exec``: a child spawned by a large parent starts with
+    the parent's peak. ``VmHWM`` belongs to the process's own address space.
+    """
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return peak / 1024 if sys.platform != "darwin" else peak / 2**20
+
 
 
 # ---------------------------------------------------------------------------- children
@@ -115,11 +131,19 @@ def child_tool(robots: Path, out: Path, jobs: int, cache_dir: Path) -> dict:
 # ---------------------------------------------------------------------------- parent
 
 def snapshot(dest: Path) -> Path:
-    """Copy the package so that every child runs the same code, even if the tree changes."""
+    """Copy the package so that every child runs the same code, even if the tree changes.
+
+    The copy is byte-compiled, as ``pip install`` compiles an installed package (and as
+    the baseline's trimesh and numpy are): with ``PYTHONDONTWRITEBYTECODE`` set, as on
+    these machines, a child would otherwise compile every module it imports, every run.
+    """
+    import compileall
+
     import urdfinertia
 
     shutil.copytree(Path(urdfinertia.__file__).parent, dest / "urdfinertia",
                     ignore=shutil.ignore_patterns("__pycache__"))
+    compileall.compile_dir(dest / "urdfinertia", quiet=1)
     return dest
 
 
