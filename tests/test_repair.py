@@ -225,3 +225,14 @@ def test_flat_piece_beside_a_solid_is_dropped_with_a_note() -> None:
     assert [s.volume for s in solids.solids] == pytest.approx([1.0])
     assert any("enclosing no volume" in n for n in solids.notes)
     assert all(np.isfinite(s.second).all() and s.volume > 0 for s in solids.solids)
+
+
+def test_probe_points_match_one_group_at_a_time(rng):
+    from urdfinertia.repair import _probe_point, _probe_points
+
+    tri = rng.normal(size=(40, 3, 3))
+    tri[7] = tri[3]  # a tie: the first largest wins in both
+    bounds = np.array([0, 1, 10, 25, 40])
+    got = _probe_points(tri, bounds)
+    for i in range(4):
+        np.testing.assert_array_equal(got[i], _probe_point(tri[bounds[i]:bounds[i + 1]]))

@@ -262,11 +262,11 @@ def _nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
     cand = (np.all(lo[:, None] >= lo[None], axis=2) & np.all(hi[:, None] <= hi[None], axis=2)
             & (size[:, None] < size[None]) & ~skip[:, None] & ~skip[None])
     inside = np.zeros((k, k), dtype=bool)  # inside[p, q]: surface p lies in surface q
+    probes = _probe_points(tri[order], bounds) if cand.any() else None
     for q in np.flatnonzero(cand.any(axis=0)):  # one winding evaluation per container
         ps = np.flatnonzero(cand[:, q])
-        probe = np.array([_probe_point(tri[order[bounds[p]:bounds[p + 1]]]) for p in ps])
         mine = order[bounds[q]:bounds[q + 1]]
-        w = closed_winding_numbers(probe, vertices, faces[mine])
+        w = closed_winding_numbers(probes[ps], vertices, faces[mine])
         inside[ps, q] = np.abs(w) > 0.5
     for p in live[np.argsort(-size[live])]:  # containers are larger: settled first
         qs = np.flatnonzero(inside[p])
@@ -274,6 +274,16 @@ def _nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
             q = qs[np.argmin(size[qs])]
             final[p] = final[q] if given[p] == given[q] else -final[q]
     return final
+
+
+def _probe_points(triangles: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """:func:`_probe_point` of each group ``triangles[bounds[i]:bounds[i + 1]]`` at once."""
+    area = np.linalg.norm(np.cross(triangles[:, 1] - triangles[:, 0],
+                                   triangles[:, 2] - triangles[:, 0]), axis=1)
+    best = np.maximum.reduceat(area, bounds[:-1])  # every group has triangles
+    at_best = np.flatnonzero(area == np.repeat(best, np.diff(bounds)))
+    first = at_best[np.searchsorted(at_best, bounds[:-1])]  # argmax: the first largest
+    return triangles[first].mean(axis=1)
 
 
 def _probe_point(triangles: np.ndarray) -> np.ndarray:
