@@ -78,8 +78,8 @@ def child_baseline(robots: Path) -> dict:
     import trimesh
     from lxml import etree
 
+    from urdfinertia.descriptions.paths import resolve_mesh_path
     from urdfinertia.errors import UrdfInertiaError
-    from urdfinertia.paths import resolve_mesh_path
 
     start = time.perf_counter()
     refs = loaded = faces = failed = 0
@@ -108,9 +108,9 @@ def child_baseline(robots: Path) -> dict:
 
 
 def child_tool(robots: Path, out: Path, jobs: int, cache_dir: Path) -> dict:
-    from urdfinertia.batch import BatchSettings, run_batch
-    from urdfinertia.batch_inputs import collect_jobs
-    from urdfinertia.fix import FixOptions
+    from urdfinertia.batch.inputs import collect_jobs
+    from urdfinertia.batch.run import BatchSettings, run_batch
+    from urdfinertia.link.fix import FixOptions
 
     start = time.perf_counter()
     report = run_batch(collect_jobs([robots], out), FixOptions(),

@@ -22,12 +22,12 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-from conftest import example_robot_data_dir  # noqa: E402
+from support.corpus import example_robot_data_dir  # noqa: E402
 
-from urdfinertia.check import check_robot  # noqa: E402
+from urdfinertia.analysis.check import check_robot  # noqa: E402
+from urdfinertia.cache.library import MeshLibrary  # noqa: E402
+from urdfinertia.descriptions.urdf.lenient import read_urdf_lenient  # noqa: E402
 from urdfinertia.errors import UrdfInertiaError  # noqa: E402
-from urdfinertia.meshlib import MeshLibrary  # noqa: E402
-from urdfinertia.raw_inertial import read_urdf_lenient  # noqa: E402
 
 
 def mujoco_verdict(path: Path) -> str:

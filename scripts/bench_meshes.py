@@ -25,13 +25,15 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
+sys.path.insert(0, str(ROOT / "tests"))
 
-from urdfinertia import damage  # noqa: E402
+from support import damage  # noqa: E402
+
 from urdfinertia.errors import MeshError  # noqa: E402
-from urdfinertia.massprops import MassProperties, combine  # noqa: E402
-from urdfinertia.mesh_io import TriangleMesh, load_mesh  # noqa: E402
-from urdfinertia.repair import repair_mesh  # noqa: E402
-from urdfinertia.solids import integrate_repaired  # noqa: E402
+from urdfinertia.inertia.massprops import MassProperties, combine  # noqa: E402
+from urdfinertia.mesh.read.load import TriangleMesh, load_mesh  # noqa: E402
+from urdfinertia.mesh.repair.pipeline import repair_mesh  # noqa: E402
+from urdfinertia.mesh.solids import integrate_repaired  # noqa: E402
 
 PARTS = (
     "g1_description/meshes/left_wrist_roll_link.STL",
@@ -158,8 +160,8 @@ def _hull_volume(v: np.ndarray) -> float:
 
 def _union_reference(v: np.ndarray, f: np.ndarray) -> MassProperties:
     """Reference for two overlapping copies: manifold3d's union of the clean meshes."""
-    from urdfinertia.polyhedron import mesh_mass_properties
-    from urdfinertia.union import union_bodies
+    from urdfinertia.inertia.polyhedron import mesh_mass_properties
+    from urdfinertia.mesh.repair.union import union_bodies
 
     half = len(v) // 2
 

@@ -6,19 +6,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support.corpus import example_robot_data_dir
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def example_robot_data_dir() -> Path | None:
-    """The ``share/example-robot-data`` folder of the installed PyPI package, if any."""
-    import sys
-
-    for base in map(Path, sys.path):
-        cand = base / "cmeel.prefix" / "share" / "example-robot-data"
-        if cand.is_dir():
-            return cand
-    return None
 
 
 @pytest.fixture(scope="session")

@@ -8,11 +8,11 @@ lines only; a second run on the output changes nothing.
 from pathlib import Path
 
 import pytest
-from test_urdf_write import assert_only_inertials_differ
+from support.diffs import assert_only_inertials_differ
 
+from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.errors import MeshError, UrdfInertiaError
-from urdfinertia.fix import FixOptions, fix_file
-from urdfinertia.meshlib import MeshLibrary
+from urdfinertia.link.fix import FixOptions, fix_file
 
 pytestmark = pytest.mark.corpus
 

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from urdfinertia import cli
-from urdfinertia.urdf_read import read_urdf
+from urdfinertia.descriptions.urdf.read import read_urdf
 
 SEED = 20240611
 CASES = 240

@@ -14,8 +14,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from urdfinertia import cli, limits, mesh_io, urdf_read
+from urdfinertia import cli
+from urdfinertia.descriptions.urdf import read as urdf_read
 from urdfinertia.errors import MeshError
+from urdfinertia.mesh import limits
+from urdfinertia.mesh.read import load as mesh_io
 
 URDF = """<?xml version="1.0"?>
 <robot name="r">
@@ -564,7 +567,7 @@ def test_output_same_as_input_refused(workdir, capsys):
 
 
 def test_spec_that_does_not_parse(workdir, capsys):
-    pytest.importorskip("urdfinertia.spec")
+    pytest.importorskip("urdfinertia.link.spec")
     spec = workdir / "spec.toml"
     spec.write_text("[link.base\nmass = ")
     expect_refusal(workdir, workdir / "r.urdf", capsys, "spec.toml", "TOML",
@@ -577,7 +580,7 @@ def test_internal_error_is_one_line_exit_3(workdir, capsys, monkeypatch):
     def boom(*args, **kwargs):
         raise ZeroDivisionError("went\nwrong")
 
-    monkeypatch.setattr("urdfinertia.cli_fix.fix_file", boom)
+    monkeypatch.setattr("urdfinertia.cli.fix.fix_file", boom)
     rc, _, err = run(["fix", str(workdir / "r.urdf"), "-q", "--no-cache"], capsys)
     assert rc == 3
     assert err.splitlines() == ["urdf-inertia: internal error: ZeroDivisionError: went wrong "

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from urdfinertia.cli import main
-from urdfinertia.fix import FixOptions, fix_file
-from urdfinertia.spec import load_spec
-from urdfinertia.urdf_read import read_urdf
+from urdfinertia.descriptions.urdf.read import read_urdf
+from urdfinertia.link.fix import FixOptions, fix_file
+from urdfinertia.link.spec import load_spec
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF, SPEC = ROOT / "robots" / "nm7mar.urdf", ROOT / "robots" / "nm7mar.inertia.toml"

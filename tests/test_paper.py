@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from urdfinertia.fix import FixOptions, fix_file
-from urdfinertia.spec import load_spec
-from urdfinertia.urdf_read import read_urdf
+from urdfinertia.descriptions.urdf.read import read_urdf
+from urdfinertia.link.fix import FixOptions, fix_file
+from urdfinertia.link.spec import load_spec
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Closed forms and sums of a few terms: only floating-point round-off separates the tool
@@ -283,7 +283,7 @@ def nm7mar_fixed(tmp_path_factory):
 
 @pytest.mark.parametrize("link", sorted(NM7MAR))
 def test_eq43_46_nm7mar_link_tensors(nm7mar_fixed, link):
-    from urdfinertia.explain import link_breakdown
+    from urdfinertia.analysis.explain import link_breakdown
 
     result, written = nm7mar_fixed
     lr = next(r for r in result.links if r.name == link)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from urdfinertia.cli import main
-from urdfinertia.report import COLORS
+from urdfinertia.render.report import COLORS
 
 ROOT = Path(__file__).resolve().parents[1]
 

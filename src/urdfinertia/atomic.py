@@ -14,7 +14,7 @@ import tempfile
 import threading
 from pathlib import Path
 
-from .errors import OutputError
+from urdfinertia.errors import OutputError
 
 _UMASK_LOCK = threading.Lock()
 

@@ -1,0 +1,97 @@
+"""``urdf-inertia check``: lint inertials as written; exit 1 when problems are found.
+
+Exit codes: 0 clean, 1 errors (or warnings with ``--strict``), 2 unreadable input (any
+:class:`UrdfInertiaError`, printed as one line by :mod:`cli`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections import Counter
+from pathlib import Path
+
+from rich.console import Console
+from rich.table import Table
+
+from urdfinertia.analysis.check import SEVERITIES, Finding, check_robot
+from urdfinertia.atomic import atomic_write_bytes
+from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cli.fix import package_dir
+from urdfinertia.descriptions.urdf.lenient import read_urdf_lenient
+from urdfinertia.link.fix import GEOMETRY_MODES, FixOptions
+from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("urdf", type=Path, nargs="+", help="the URDF file(s) to check")
+    p.add_argument("--json", type=Path, metavar="PATH", help="write the findings as JSON")
+    p.add_argument("--strict", action="store_true", help="warnings also make the exit code 1")
+    p.add_argument("--no-geometry", action="store_true",
+                   help="check the written values only; read no mesh (skips CoM-in-box, "
+                        "density and tensor-size checks)")
+    p.add_argument("--show-info", action="store_true",
+                   help="also list info findings (lumped masses, massless frames)")
+    p.add_argument("--geometry", choices=GEOMETRY_MODES, default="auto",
+                   help="geometry whose volume gives the implied density (default: auto = "
+                        "collision when the link has any, else visual)")
+    p.add_argument("--package-dir", type=package_dir, action="append", default=[],
+                   metavar="NAME=PATH", help="where package://NAME/ points (repeatable)")
+    p.add_argument("--max-faces", type=int, default=DEFAULT_MAX_FACES, metavar="N",
+                   help=f"refuse meshes with more faces (default {DEFAULT_MAX_FACES})")
+    p.add_argument("-q", "--quiet", action="store_true", help="print only the summary line")
+
+
+def exit_code(findings: list[Finding], strict: bool) -> int:
+    bad = {"error", "warning"} if strict else {"error"}
+    return 1 if any(f.severity in bad for f in findings) else 0
+
+
+def run(args: argparse.Namespace) -> int:
+    options = FixOptions(geometry=args.geometry, package_dirs=dict(args.package_dir),
+                         max_faces=args.max_faces)
+    meshes = None if args.no_geometry else MeshLibrary(options.package_dirs, options.max_faces)
+    console = Console(width=170)
+    report = []
+    code = 0
+    for path in args.urdf:
+        robot, _ = read_urdf_lenient(path)
+        findings = check_robot(robot, meshes=meshes, options=options)
+        code = max(code, exit_code(findings, args.strict))
+        report.append({"file": str(path), "robot": robot.name, "links": len(robot.links),
+                       "counts": severity_counts(findings),
+                       "findings": [vars(f) for f in findings]})
+        if not args.quiet:
+            shown = [f for f in findings if args.show_info or f.severity != "info"]
+            if shown:
+                console.print(findings_table(shown, f"{path}: {robot.name}"))
+        console.print(summary_line(str(path), len(robot.links), findings))
+    if args.json is not None:
+        doc = {"exit_code": code, "strict": args.strict, "files": report}
+        atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
+    return code
+
+
+def severity_counts(findings: list[Finding]) -> dict[str, int]:
+    counts = Counter(f.severity for f in findings)
+    return {s: counts.get(s, 0) for s in SEVERITIES}
+
+
+def summary_line(path: str, n_links: int, findings: list[Finding]) -> str:
+    c = severity_counts(findings)
+    codes = Counter(f.code for f in findings if f.severity != "info")
+    top = ", ".join(f"{code} x{n}" for code, n in codes.most_common(4))
+    return (f"{path}: {n_links} links, {c['error']} error(s), {c['warning']} warning(s), "
+            f"{c['info']} info{': ' + top if top else ''}")
+
+
+def findings_table(findings: list[Finding], title: str) -> Table:
+    table = Table(title=title)
+    for col in ("link", "severity", "code", "message"):
+        table.add_column(col, overflow="fold")
+    style = {"error": "red", "warning": "yellow", "info": "cyan"}
+    order = {s: i for i, s in enumerate(SEVERITIES)}
+    for f in sorted(findings, key=lambda f: order[f.severity]):
+        table.add_row(f.link or "-", f"[{style[f.severity]}]{f.severity}[/]", f.code,
+                      f.message)
+    return table

@@ -1,0 +1,155 @@
+"""``urdf-inertia fix``: arguments and output of the main job."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from urdfinertia.atomic import atomic_write_bytes, write_in_place
+from urdfinertia.cli.batch import (
+    add_batch_arguments,
+    finish_single,
+    is_batch,
+    run_many,
+    single_file_library,
+)
+from urdfinertia.errors import OutputError, UrdfInertiaError
+from urdfinertia.link.fix import GEOMETRY_MODES, MASS_MODES, FixOptions, fix_file
+from urdfinertia.mesh.limits import BYTES_PER_FACE, DEFAULT_MAX_FACES
+
+# rich (tables) and the JSON writer are imported when they are used: a quiet batch run
+# whose results are all cached needs neither.
+
+
+def package_dir(text: str) -> tuple[str, Path]:
+    name, sep, path = text.partition("=")
+    if not sep or not name or not path:
+        raise argparse.ArgumentTypeError(f"expected NAME=PATH, got {text!r}")
+    return name, Path(path)
+
+
+#: Upper bound of --density, kg/m^3: the densest element (osmium) is 22,590; a larger value
+#: is a unit slip (g/cm^3 read as kg/m^3 goes the other way, but 1e6+ is never a material).
+MAX_DENSITY = 1e6
+
+
+def density_value(text: str) -> float:
+    value = positive_float(text)
+    if value > MAX_DENSITY:
+        raise argparse.ArgumentTypeError(f"{text} kg/m^3 is denser than any material "
+                                         f"(limit {MAX_DENSITY:g})")
+    return value
+
+
+def positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (value > 0 and value != float("inf")):
+        raise argparse.ArgumentTypeError(f"must be positive and finite: {text!r}")
+    return value
+
+
+def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
+    """Options shared by every command that computes from geometry."""
+    p.add_argument("--geometry", choices=GEOMETRY_MODES, default="auto",
+                   help="geometry to use: auto = collision when the link has any, "
+                        "else visual (default: auto)")
+    p.add_argument("--mass", choices=MASS_MODES, default="keep",
+                   help="keep: keep a link's existing positive mass and take CoM and tensor "
+                        "from the geometry; density: mass = density x volume (default: keep)")
+    p.add_argument("--density", type=density_value, default=1000.0, metavar="KG_PER_M3",
+                   help="density for links without mass or with --mass density "
+                        "(kg/m^3, default 1000)")
+    p.add_argument("--package-dir", type=package_dir, action="append", default=[],
+                   metavar="NAME=PATH", help="where package://NAME/ points (repeatable)")
+    p.add_argument("--spec", type=Path, metavar="TOML",
+                   help="decomposition spec: parts with known mass, density or material")
+    p.add_argument("--max-faces", type=int, default=DEFAULT_MAX_FACES, metavar="N",
+                   help=f"refuse meshes with more faces, or mesh files larger than "
+                        f"{BYTES_PER_FACE} bytes per face plus 1 MiB, before reading them "
+                        f"(default {DEFAULT_MAX_FACES})")
+
+
+def options_from_args(args: argparse.Namespace) -> FixOptions:
+    spec = None
+    if getattr(args, "spec", None) is not None:
+        from urdfinertia.link.spec import load_spec
+
+        spec = load_spec(args.spec)
+    return FixOptions(
+        geometry=args.geometry,
+        mass=args.mass,
+        density=args.density,
+        package_dirs=dict(args.package_dir),
+        max_faces=args.max_faces,
+        spec=spec,
+    )
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("urdf", type=Path, help="the URDF to fix, or a folder of URDFs")
+    p.add_argument("more", type=Path, nargs="*", metavar="URDF_OR_DIR",
+                   help="more URDFs or folders (searched recursively for *.urdf); with "
+                        "several inputs or a folder, -o names an output folder that keeps "
+                        "the tree")
+    out = p.add_mutually_exclusive_group()
+    out.add_argument("-o", "--output", type=Path, help="write the fixed URDF here")
+    out.add_argument("--in-place", action="store_true",
+                     help="overwrite the input (a copy is kept as URDF.bak)")
+    add_common_geometry_arguments(p)
+    p.add_argument("--json", type=Path, metavar="PATH", help="write per-link results as JSON")
+    p.add_argument("-q", "--quiet", action="store_true", help="no table on the terminal")
+    p.add_argument("--repair-only", action="store_true",
+                   help="keep every mass and CoM; only lift the principal moments of invalid "
+                        "tensors (not positive definite, A + B < C) just enough; geometry "
+                        "options are ignored")
+    add_batch_arguments(p)
+
+
+def run(args: argparse.Namespace) -> int:
+    options = options_from_args(args)
+    if getattr(args, "repair_only", False):
+        from urdfinertia.link.repair_only import repair_file
+
+        if is_batch(args):
+            raise UrdfInertiaError("--repair-only takes a single URDF file")
+        result = repair_file(args.urdf)
+    elif is_batch(args):
+        return run_many(args, options)
+    else:
+        meshes = single_file_library(args, options)
+        result = fix_file(args.urdf, options, meshes)
+        finish_single(args, meshes)
+    if args.output is not None and args.output.resolve() == args.urdf.resolve():
+        raise OutputError("output is the input file: use --in-place", file=args.output)
+    # everything is computed before the first write; the URDF (the file that matters)
+    # is written first, so a failure leaves at most the JSON missing
+    text = None
+    if args.json is not None:
+        from urdfinertia.render.results_json import fix_result_dict
+
+        text = json.dumps(fix_result_dict(result), indent=2)
+    if args.in_place:
+        if result.changed:
+            write_in_place(args.urdf, result.output)
+    elif args.output is not None:
+        atomic_write_bytes(args.output, result.output)
+    if text is not None:
+        atomic_write_bytes(args.json, text.encode())
+    if not args.quiet:
+        from rich.console import Console
+
+        from urdfinertia.render.table import print_fix_table
+
+        console = Console(stderr=args.output is None and not args.in_place, width=160)
+        print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
+    if args.output is None and not args.in_place:
+        sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
+    return 0
+
+
+__all__ = ["add_arguments", "run", "UrdfInertiaError"]

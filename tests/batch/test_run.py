@@ -1,0 +1,368 @@
+"""Batch runs: inputs, per-file errors, identical bytes for any --jobs and with a cache."""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import contextlib
+from pathlib import Path
+
+import pytest
+import trimesh
+
+from urdfinertia.batch import run as batch
+from urdfinertia.batch.inputs import FileJob, collect_jobs
+from urdfinertia.batch.run import BatchSettings, run_batch
+from urdfinertia.cache import library as meshlib
+from urdfinertia.cli import main
+from urdfinertia.errors import OutputError, UrdfError
+from urdfinertia.link.fix import FixOptions
+
+
+def link(name: str, geometry: str, xyz: str = "0 0 0") -> str:
+    return (f'  <link name="{name}"><collision><origin xyz="{xyz}"/>'
+            f"<geometry>{geometry}</geometry></collision></link>\n")
+
+
+def robot(name: str, *links: str) -> str:
+    return f'<?xml version="1.0"?>\n<robot name="{name}">\n{"".join(links)}</robot>\n'
+
+
+@pytest.fixture
+def tree(tmp_path) -> Path:
+    """pkg_a/{robot_a, sub/robot_b}.urdf sharing meshes; pkg_b/robot_c.urdf primitives only."""
+    root = tmp_path / "robots"
+    meshes = root / "pkg_a" / "meshes"
+    meshes.mkdir(parents=True)
+    trimesh.creation.box(extents=(0.2, 0.1, 0.05)).export(meshes / "box.stl")
+    trimesh.creation.icosphere(subdivisions=2, radius=0.05).export(meshes / "ball.stl")
+    (root / "pkg_a" / "robot_a.urdf").write_text(robot(
+        "a",
+        link("base", '<mesh filename="meshes/box.stl"/>'),
+        link("left", '<mesh filename="meshes/ball.stl"/>', "0 0.1 0"),
+        link("right", '<mesh filename="meshes/ball.stl" scale="1 -1 1"/>', "0 -0.1 0"),
+        link("tool", '<box size="0.1 0.1 0.1"/>'),
+    ))
+    (root / "pkg_a" / "sub").mkdir()
+    (root / "pkg_a" / "sub" / "robot_b.urdf").write_text(robot(
+        "b", link("body", '<mesh filename="../meshes/box.stl" scale="2 2 2"/>')))
+    (root / "pkg_b").mkdir()
+    (root / "pkg_b" / "robot_c.urdf").write_text(robot(
+        "c", link("rod", '<cylinder radius="0.02" length="0.5"/>')))
+    return root
+
+
+def outputs(folder: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*.urdf"))}
+
+
+def test_folder_keeps_the_tree(tree, tmp_path):
+    jobs = collect_jobs([tree], tmp_path / "out")
+    rel = sorted(str(j.output.relative_to(tmp_path / "out")) for j in jobs)
+    assert rel == ["pkg_a/robot_a.urdf", "pkg_a/sub/robot_b.urdf", "pkg_b/robot_c.urdf"]
+
+
+def test_files_go_to_the_output_folder_by_name(tree, tmp_path):
+    a = tree / "pkg_a" / "robot_a.urdf"
+    jobs = collect_jobs([a, tree / "pkg_b", a], tmp_path / "out")
+    assert [j.output for j in jobs] == [tmp_path / "out" / "robot_a.urdf",
+                                       tmp_path / "out" / "robot_c.urdf"]
+
+
+def test_two_inputs_with_one_output_are_refused(tree, tmp_path):
+    other = tmp_path / "elsewhere"
+    other.mkdir()
+    (other / "robot_a.urdf").write_text(robot("x", link("l", '<box size="1 1 1"/>')))
+    with pytest.raises(OutputError, match="two inputs"):
+        collect_jobs([tree / "pkg_a" / "robot_a.urdf", other / "robot_a.urdf"], tmp_path / "o")
+
+
+def test_output_over_input_is_refused(tree):
+    with pytest.raises(OutputError, match="in-place"):
+        collect_jobs([tree], tree)
+
+
+@pytest.mark.parametrize("make", ["missing", "empty"])
+def test_bad_inputs_are_refused(tmp_path, make):
+    target = tmp_path / "nothing"
+    if make == "empty":
+        target.mkdir()
+    with pytest.raises(UrdfError):
+        collect_jobs([target], tmp_path / "out")
+
+
+def test_results_are_identical_for_any_jobs_and_cache(tree, tmp_path):
+    options = FixOptions()
+    runs = {
+        "serial, no cache": BatchSettings(jobs=1, use_cache=False),
+        "2 workers, cold cache": BatchSettings(jobs=2, cache_dir=tmp_path / "c"),
+        "2 workers, warm cache": BatchSettings(jobs=2, cache_dir=tmp_path / "c"),
+        "serial, warm cache": BatchSettings(jobs=1, cache_dir=tmp_path / "c"),
+    }
+    found = {}
+    for name, settings in runs.items():
+        out = tmp_path / name.replace(" ", "_").replace(",", "")
+        report = run_batch(collect_jobs([tree], out), options, settings)
+        assert not report.failed, report.failed
+        found[name] = outputs(out)
+        if "warm" in name:  # every file's whole result is reused
+            assert (report.file_hits, report.meshes) == (3, 0)
+        else:
+            assert (report.file_hits, report.meshes) == (0, 2)
+    reference = found.pop("serial, no cache")
+    assert len(reference) == 3
+    assert b"<inertial>" in reference["pkg_a/robot_a.urdf"]
+    for name, files in found.items():
+        assert files == reference, name
+
+
+def test_batch_output_equals_the_single_file_command(tree, tmp_path):
+    source = tree / "pkg_a" / "robot_a.urdf"
+    assert main(["fix", str(source), "-o", str(tmp_path / "single.urdf"), "-q",
+                 "--cache-dir", str(tmp_path / "c")]) == 0
+    assert main(["fix", str(tree), "-o", str(tmp_path / "many"), "-q", "--jobs", "2",
+                 "--cache-dir", str(tmp_path / "c")]) == 0
+    single = (tmp_path / "single.urdf").read_bytes()
+    assert (tmp_path / "many" / "pkg_a" / "robot_a.urdf").read_bytes() == single
+
+
+@contextlib.contextmanager
+def threads(jobs, dask):
+    with cf.ThreadPoolExecutor(2) as pool:
+        yield pool
+
+
+def test_each_distinct_mesh_is_read_once_with_workers(tree, tmp_path, monkeypatch):
+    reads: list[str] = []
+    real = meshlib.load_mesh  # the worker task (batch.mesh_task) reads through it too
+    monkeypatch.setattr(meshlib, "load_mesh", lambda p, m: reads.append(p) or real(p, m))
+    monkeypatch.setattr(batch, "open_executor", threads)  # same process: reads are seen
+    report = run_batch(collect_jobs([tree], tmp_path / "out"), FixOptions(),
+                       BatchSettings(jobs=2, use_cache=False))
+    assert not report.failed
+    assert sorted(Path(p).name for p in reads) == ["ball.stl", "box.stl"]
+
+
+def test_each_distinct_mesh_is_read_once_in_one_process(tree, tmp_path, monkeypatch):
+    reads: list[str] = []
+    real = meshlib.load_mesh
+    monkeypatch.setattr(meshlib, "load_mesh", lambda p, m: reads.append(p) or real(p, m))
+    run_batch(collect_jobs([tree], tmp_path / "out"), FixOptions(),
+              BatchSettings(jobs=1, use_cache=False))
+    assert sorted(Path(p).name for p in reads) == ["ball.stl", "box.stl"]
+
+
+@pytest.fixture
+def broken(tree) -> Path:
+    (tree / "pkg_b" / "bad_xml.urdf").write_text("<robot name='x'><link name='a'>")
+    (tree / "pkg_b" / "no_mesh.urdf").write_text(robot(
+        "m", link("l", '<mesh filename="missing.stl"/>')))
+    return tree
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_failures_are_reported_per_file_and_the_rest_is_written(broken, tmp_path, jobs):
+    out = tmp_path / "out"
+    report = run_batch(collect_jobs([broken], out), FixOptions(),
+                       BatchSettings(jobs=jobs, use_cache=False))
+    failed = {o.source.name: o.error for o in report.failed}
+    assert set(failed) == {"bad_xml.urdf", "no_mesh.urdf"}
+    assert "malformed XML" in failed["bad_xml.urdf"]
+    assert "missing.stl" in failed["no_mesh.urdf"]
+    assert sorted(outputs(out)) == ["pkg_a/robot_a.urdf", "pkg_a/sub/robot_b.urdf",
+                                    "pkg_b/robot_c.urdf"]
+
+
+def test_cli_exit_code_names_each_failed_file(broken, tmp_path, capsys):
+    code = main(["fix", str(broken), "-o", str(tmp_path / "out"), "--jobs", "2", "-q",
+                 "--no-cache"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "bad_xml.urdf" in err and "no_mesh.urdf" in err
+    assert "2 of 5 files failed" in err
+
+
+def test_cli_several_inputs_need_an_output_folder(tree, capsys):
+    code = main(["fix", str(tree / "pkg_a" / "robot_a.urdf"), str(tree / "pkg_b")])
+    assert code == 2
+    assert "-o FOLDER or --in-place" in capsys.readouterr().err
+
+
+def test_cli_in_place_batch_keeps_backups(tree, tmp_path):
+    before = (tree / "pkg_a" / "robot_a.urdf").read_bytes()
+    assert main(["fix", str(tree), "--in-place", "-q", "--no-cache"]) == 0
+    assert (tree / "pkg_a" / "robot_a.urdf.bak").read_bytes() == before
+    assert (tree / "pkg_a" / "robot_a.urdf").read_bytes() != before
+
+
+def test_cli_json_lists_every_file(tree, tmp_path):
+    import json
+
+    report = tmp_path / "r.json"
+    assert main(["fix", str(tree), "-o", str(tmp_path / "out"), "-q", "--no-cache",
+                 "--json", str(report)]) == 0
+    doc = json.loads(report.read_text())
+    assert sorted(Path(f["file"]).name for f in doc["files"]) == [
+        "robot_a.urdf", "robot_b.urdf", "robot_c.urdf"]
+    assert all(f["links"] for f in doc["files"])
+
+
+def test_single_file_with_workers_matches_serial(tree, tmp_path):
+    source = str(tree / "pkg_a" / "robot_a.urdf")
+    assert main(["fix", source, "-o", str(tmp_path / "one.urdf"), "-q", "--no-cache"]) == 0
+    assert main(["fix", source, "-o", str(tmp_path / "two.urdf"), "-q", "--no-cache",
+                 "--jobs", "2"]) == 0
+    assert (tmp_path / "one.urdf").read_bytes() == (tmp_path / "two.urdf").read_bytes()
+
+
+def test_in_memory_jobs_keep_their_document(tree):
+    report = run_batch([FileJob(tree / "pkg_b" / "robot_c.urdf")], FixOptions(),
+                       BatchSettings(use_cache=False))
+    assert report.outcomes[0].document is not None
+    assert b"<inertial>" in report.outcomes[0].document
+
+
+def test_warm_results_follow_edited_meshes_and_options(tree, tmp_path):
+    cache = tmp_path / "c"
+
+    def run(name, options=None, **kw):
+        out = tmp_path / name
+        report = run_batch(collect_jobs([tree], out), options or FixOptions(),
+                           BatchSettings(cache_dir=cache, **kw))
+        assert not report.failed
+        return report, outputs(out)
+
+    run("cold")
+    trimesh.creation.box(extents=(0.4, 0.1, 0.05)).export(tree / "pkg_a" / "meshes" / "box.stl")
+    report, edited = run("edited mesh")
+    assert report.file_hits == 1  # robot_c has no mesh; a and b use box.stl
+    _, fresh = run("reference", use_cache=False)
+    assert edited == fresh
+    report, heavier = run("other density", FixOptions(mass="density", density=2000.0))
+    assert report.file_hits == 0
+    assert heavier != fresh
+
+
+def test_a_corrupt_whole_file_entry_is_recomputed(tree, tmp_path):
+    cache = tmp_path / "c"
+    run_batch(collect_jobs([tree], tmp_path / "cold"), FixOptions(),
+              BatchSettings(cache_dir=cache))
+    entries = sorted((cache / "files-v1").glob("??/*.entry"))
+    assert len(entries) == 3
+    for entry in entries:
+        data = entry.read_bytes()
+        entry.write_bytes(data[:-10] + b"<evil/>   ")  # same length, other document
+    report = run_batch(collect_jobs([tree], tmp_path / "warm"), FixOptions(),
+                       BatchSettings(cache_dir=cache))
+    assert report.file_hits == 0  # the document's digest no longer matches
+    assert b"<evil/>" not in b"".join(outputs(tmp_path / "warm").values())
+    for entry in entries:
+        entry.write_bytes(b"garbage")
+    report = run_batch(collect_jobs([tree], tmp_path / "again"), FixOptions(),
+                       BatchSettings(cache_dir=cache))
+    assert report.file_hits == 0
+    assert outputs(tmp_path / "again") == outputs(tmp_path / "cold")
+
+
+def test_whole_file_results_do_not_depend_on_the_working_folder(tree, tmp_path, monkeypatch):
+    cache = tmp_path / "c"
+    monkeypatch.chdir(tree)
+    run_batch(collect_jobs([Path("pkg_a")], tmp_path / "one"), FixOptions(),
+              BatchSettings(cache_dir=cache))
+    monkeypatch.chdir(tmp_path)
+    report = run_batch(collect_jobs([tree / "pkg_a"], tmp_path / "two"), FixOptions(),
+                       BatchSettings(cache_dir=cache))
+    assert report.file_hits == 2
+    assert outputs(tmp_path / "one") == outputs(tmp_path / "two")
+
+
+def test_errors_fixed_by_the_inputs_are_cached_until_the_inputs_change(broken, tmp_path):
+    cache = tmp_path / "c"
+
+    def run(name):
+        report = run_batch(collect_jobs([broken], tmp_path / name), FixOptions(),
+                           BatchSettings(cache_dir=cache))
+        return report, {o.source.name: o.error for o in report.failed}
+
+    _, cold = run("cold")
+    assert set(cold) == {"bad_xml.urdf", "no_mesh.urdf"}
+    report, warm = run("warm")
+    assert warm == cold  # the same one-line errors, from the cache
+    assert report.file_hits == 5 and report.cache_hits == 0
+    # the missing mesh appears: the entry no longer holds, the file is fixed
+    trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(broken / "pkg_b" / "missing.stl")
+    report, fixed = run("fixed")
+    assert set(fixed) == {"bad_xml.urdf"}
+    assert report.file_hits == 4
+    assert (tmp_path / "fixed" / "pkg_b" / "no_mesh.urdf").is_file()
+
+
+def test_a_cached_error_names_the_source_as_spelled(broken, tmp_path, monkeypatch):
+    cache = tmp_path / "c"
+    monkeypatch.chdir(broken)
+    first = run_batch(collect_jobs([Path("pkg_b")], tmp_path / "one"), FixOptions(),
+                      BatchSettings(cache_dir=cache))
+    second = run_batch(collect_jobs([broken / "pkg_b"], tmp_path / "two"), FixOptions(),
+                       BatchSettings(cache_dir=cache))
+    errors = [sorted(o.error for o in r.failed) for r in (first, second)]
+    assert all(e.startswith("pkg_b") for e in errors[0])
+    assert all(e.startswith(str(broken)) for e in errors[1])
+    assert second.file_hits == 1  # robot_c; the errors quote the other spelling
+
+
+def test_errors_that_may_depend_on_the_environment_are_not_cached(tree, tmp_path,
+                                                                   monkeypatch):
+    from urdfinertia.errors import MeshError
+
+    def unreadable(path, max_faces):
+        raise MeshError(f"cannot read {path}: permission denied")
+
+    monkeypatch.setattr(meshlib, "load_mesh", unreadable)
+    cache = tmp_path / "c"
+    for name in ("one", "two"):
+        report = run_batch(collect_jobs([tree], tmp_path / name), FixOptions(),
+                           BatchSettings(cache_dir=cache))
+        assert {o.source.name for o in report.failed} == {"robot_a.urdf", "robot_b.urdf"}
+        assert report.file_hits == (0 if name == "one" else 1)  # robot_c only
+
+
+def test_a_warm_run_writes_every_output_and_keeps_the_order(tree, tmp_path):
+    settings = BatchSettings(cache_dir=tmp_path / "c")
+    run_batch(collect_jobs([tree], tmp_path / "cold"), FixOptions(), settings)
+    jobs = collect_jobs([tree], tmp_path / "warm")
+    report = run_batch(jobs, FixOptions(), settings)  # every file from the cache
+    assert report.file_hits == 3
+    assert [o.source for o in report.outcomes] == [j.source for j in jobs]
+    assert all(o.output == j.output and o.document is None
+               for o, j in zip(report.outcomes, jobs, strict=True))
+    assert outputs(tmp_path / "warm") == outputs(tmp_path / "cold")
+    assert report.times.get("write") > 0
+
+
+def test_urdf_files_finds_what_rglob_finds(tmp_path):
+    from urdfinertia.batch.inputs import urdf_files
+
+    (tmp_path / "a" / "b").mkdir(parents=True)
+    (tmp_path / "other").mkdir()
+    for name in ("a/x.urdf", "a/b/y.URDF", "a/.urdf", "a/z.urdf.bak", "a/b/w.xml",
+                 "other/v.urdf", ".hidden.urdf"):
+        (tmp_path / name).write_text("<robot/>")
+    (tmp_path / "dir.urdf").mkdir()
+    (tmp_path / "a" / "link.urdf").symlink_to(tmp_path / "other" / "v.urdf")
+    (tmp_path / "a" / "loop").symlink_to(tmp_path / "a")  # not followed
+    expected = sorted(p for p in tmp_path.rglob("*")
+                      if p.suffix.lower() == ".urdf" and p.is_file())
+    assert sorted(urdf_files(tmp_path)) == expected
+    assert len(expected) == 5
+
+
+def test_an_altered_error_entry_is_recomputed(broken, tmp_path):
+    cache = tmp_path / "c"
+    source = broken / "pkg_b" / "no_mesh.urdf"
+    run_batch([FileJob(source)], FixOptions(), BatchSettings(cache_dir=cache))
+    (entry,) = (cache / "files-v1").glob("??/*.entry")
+    data = entry.read_bytes()
+    at = data.rindex(b"missing.stl")  # in the message (the body), not in the header
+    entry.write_bytes(data[:at] + b"ELSEWHERE!!" + data[at + 11:])  # same length
+    report = run_batch([FileJob(source)], FixOptions(), BatchSettings(cache_dir=cache))
+    assert report.file_hits == 0
+    assert "missing.stl" in report.outcomes[0].error

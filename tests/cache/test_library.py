@@ -1,0 +1,136 @@
+"""MeshLibrary: each file read once, cache hits equal to computed results, stage times."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import trimesh
+
+from urdfinertia.cache import library as meshlib
+from urdfinertia.cache.library import MeshLibrary, mesh_file_solids
+from urdfinertia.cache.store import SolidsCache
+from urdfinertia.errors import MeshError
+from urdfinertia.mesh.read.load import load_mesh
+from urdfinertia.mesh.solids import mesh_solids
+
+
+@pytest.fixture
+def box_stl(tmp_path):
+    path = tmp_path / "box.stl"
+    mesh = trimesh.creation.box(extents=(0.2, 0.1, 0.05))
+    mesh.apply_translation((0.3, -0.1, 0.05))
+    mesh.export(path)
+    return path
+
+
+@pytest.fixture
+def count_reads(monkeypatch):
+    calls: list[str] = []
+    real = meshlib.load_mesh
+
+    def counting(path, max_faces):
+        calls.append(str(path))
+        return real(path, max_faces)
+
+    monkeypatch.setattr(meshlib, "load_mesh", counting)
+    return calls
+
+
+def test_a_file_is_read_once_per_library(box_stl, count_reads):
+    lib = MeshLibrary()
+    a = lib.solids(box_stl)
+    b = lib.solids(box_stl.parent / "." / box_stl.name)  # another spelling, same file
+    assert a is b
+    assert len(count_reads) == 1
+
+
+def test_results_equal_the_plain_computation(box_stl):
+    direct = mesh_solids(load_mesh(box_stl))
+    found = MeshLibrary().solids(box_stl)
+    assert found.solids[0].volume == direct.solids[0].volume
+    np.testing.assert_array_equal(found.solids[0].second, direct.solids[0].second)
+    # rel 1e-6: STL stores float32 coordinates
+    assert found.solids[0].volume == pytest.approx(0.2 * 0.1 * 0.05, rel=1e-6)
+
+
+def test_cache_hit_is_identical_and_skips_reading(box_stl, tmp_path, count_reads):
+    store = SolidsCache(tmp_path / "cache")
+    cold = MeshLibrary(cache=store).solids(box_stl)
+    warm = MeshLibrary(cache=store).solids(box_stl)
+    assert len(count_reads) == 1
+    assert store.hits == 1
+    for x, y in zip(cold.solids, warm.solids, strict=True):
+        assert x.volume == y.volume
+        np.testing.assert_array_equal(x.first, y.first)
+        np.testing.assert_array_equal(x.second, y.second)
+        assert (x.method, x.notes) == (y.method, y.notes)
+    assert cold.notes == warm.notes
+
+
+def test_scale_is_applied_after_the_cache(box_stl, tmp_path):
+    """Volume scales by |det S|, second moments by S S^T (mirroring included)."""
+    store = SolidsCache(tmp_path / "cache")
+    scale = np.array([2.0, -0.5, 3.0])
+    MeshLibrary(cache=store).solids(box_stl)
+    scaled = MeshLibrary(cache=store).solids(box_stl).scaled(scale).solids[0]
+    mesh = load_mesh(box_stl)
+    direct = mesh_solids(type(mesh)(mesh.vertices * scale, mesh.faces[:, ::-1])).solids[0]
+    # rel 1e-12: same integrals, rounding differs only in the last bits
+    assert scaled.volume == pytest.approx(direct.volume, rel=1e-12)
+    np.testing.assert_allclose(scaled.first, direct.first, rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(scaled.second, direct.second, rtol=1e-12, atol=1e-18)
+
+
+def test_face_limit_holds_on_a_cache_hit(box_stl, tmp_path):
+    store = SolidsCache(tmp_path / "cache")
+    mesh_file_solids(box_stl, 1000, store)
+    with pytest.raises(MeshError) as uncached:
+        mesh_file_solids(box_stl, 5)
+    with pytest.raises(MeshError) as cached:
+        mesh_file_solids(box_stl, 5, store)
+    assert store.hits == 1
+    assert str(cached.value) == str(uncached.value)
+
+
+def test_a_failing_mesh_fails_once_and_repeats_a_fresh_error(tmp_path, count_reads):
+    bad = tmp_path / "bad.stl"
+    bad.write_bytes(b"solid x\nfacet normal 0 0 1\nnot really\n")
+    lib = MeshLibrary()
+    with pytest.raises(MeshError) as first:
+        lib.solids(bad)
+    first.value.with_context(link="left_leg")
+    with pytest.raises(MeshError) as second:
+        lib.solids(bad)
+    assert len(count_reads) == 1
+    assert second.value is not first.value
+    assert second.value.link is None  # context added to one report stays there
+    assert str(bad) in second.value.cause and second.value.file is None  # file = the URDF
+
+
+def test_stage_times_are_recorded(box_stl, tmp_path):
+    lib = MeshLibrary(cache=SolidsCache(tmp_path / "cache"))
+    lib.solids(box_stl)
+    stages = set(lib.timer.seconds)
+    assert {"mesh read", "repair", "cache"} <= stages
+    assert all(v >= 0 for v in lib.timer.seconds.values())
+
+
+def test_seeded_results_are_used_without_reading(box_stl, count_reads):
+    computed = MeshLibrary().solids(box_stl)
+    lib = MeshLibrary()
+    lib.seed(box_stl, computed)
+    assert lib.solids(box_stl) is computed
+    assert len(count_reads) == 1
+
+
+def test_a_rejected_mesh_is_remembered_by_the_cache(tmp_path, count_reads):
+    flat = tmp_path / "flat.stl"
+    trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]],
+                    [[0, 1, 2], [0, 2, 3]]).export(flat)
+    store = SolidsCache(tmp_path / "cache")
+    with pytest.raises(MeshError) as cold:
+        MeshLibrary(cache=store).solids(flat)
+    with pytest.raises(MeshError) as warm:
+        MeshLibrary(cache=store).solids(flat)
+    assert len(count_reads) == 1
+    assert str(warm.value) == str(cold.value)

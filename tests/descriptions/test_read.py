@@ -1,0 +1,165 @@
+"""urdf_read.py and xml_safety.py: what the reader accepts and refuses."""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+from lxml import etree
+
+from urdfinertia.descriptions.model import Box, Capsule, Mesh
+from urdfinertia.descriptions.urdf.read import MAX_MAGNITUDE, parse_xml, read_urdf, robot_from_bytes
+from urdfinertia.descriptions.xml import hostile_xml_cause, hostile_xml_stream_cause, safe_parser
+from urdfinertia.errors import UrdfError
+
+
+def robot(body: str, inertial: str = ""):
+    doc = f'<robot name="r"><link name="a">{inertial}{body}</link></robot>'
+    return robot_from_bytes(doc.encode(), "t.urdf")
+
+
+def box(size: str):
+    return robot(f'<collision><geometry><box size="{size}"/></geometry></collision>')
+
+
+@pytest.mark.parametrize(("text", "value"), [
+    ("1 2 3", (1.0, 2.0, 3.0)),
+    ("+1 2.5e-3 .5", (1.0, 0.0025, 0.5)),
+    ("1. 2E2 3e+0", (1.0, 200.0, 3.0)),
+    ("\t1\n 2\r\n3  ", (1.0, 2.0, 3.0)),
+])
+def test_numbers_accepted(text, value):
+    assert box(text).links[0].collisions[0].shape == Box(value)
+
+
+@pytest.mark.parametrize("text", [
+    "1 2 nan", "1 2 inf", "1 2 -Infinity", "1 2 0x1p3", "1 2 1_000", "1 2 \u0663",
+    "1 2 3.0f", "1,2,3", "1 2 e3", "1 2 -", "1 2 1e",
+])
+def test_non_numbers_refused(text):
+    with pytest.raises(UrdfError, match="is not a number|needs 3 numbers") as exc:
+        box(text)
+    assert exc.value.link == "a" and exc.value.file == "t.urdf" and exc.value.line == 1
+
+
+@pytest.mark.parametrize("text", ["1e400 1 1", f"{MAX_MAGNITUDE * 10:g} 1 1"])
+def test_out_of_range_refused(text):
+    with pytest.raises(UrdfError, match="out of range"):
+        box(text)
+
+
+def test_largest_magnitude_accepted():
+    assert box(f"{MAX_MAGNITUDE:g} 1 1").links[0].collisions[0].shape.size[0] == MAX_MAGNITUDE
+
+
+def test_long_value_shortened_in_message():
+    with pytest.raises(UrdfError) as exc:
+        box("1 2 " + "9" * 5000 + "x")
+    assert len(str(exc.value)) < 300
+
+
+def test_negative_mesh_scale_is_mirroring_not_an_error():
+    r = robot('<visual><geometry><mesh filename="m.stl" scale="-1 1 1"/></geometry></visual>')
+    assert r.links[0].visuals[0].shape == Mesh("m.stl", (-1.0, 1.0, 1.0))
+
+
+def test_capsule_of_zero_length_is_a_sphere():
+    r = robot('<collision><geometry><capsule radius="0.1" length="0"/></geometry></collision>')
+    assert r.links[0].collisions[0].shape == Capsule(0.1, 0.0)
+
+
+INERTIAL = ('<inertial><mass value="{m}"/>'
+            '<inertia ixx="{i}" ixy="-5" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')
+
+
+def test_zero_mass_placeholder_accepted():
+    assert robot("", INERTIAL.format(m="0", i="1")).links[0].inertial.mass == 0.0
+
+
+def test_negative_product_of_inertia_accepted():
+    """Off-diagonal entries may be negative: only diagonal moments are signed."""
+    assert robot("", INERTIAL.format(m="1", i="1")).links[0].inertial.ixy == -5.0
+
+
+@pytest.mark.parametrize(("m", "i", "words"), [("-1", "1", "mass"), ("1", "-0.5", "ixx")])
+def test_negative_mass_or_moment_refused(m, i, words):
+    with pytest.raises(UrdfError, match=f"{words}.*is negative") as exc:
+        robot("", INERTIAL.format(m=m, i=i))
+    assert exc.value.link == "a" and exc.value.line == 1
+
+
+def test_namespaced_root_refused():
+    with pytest.raises(UrdfError, match="expected <robot>"):
+        parse_xml(b'<robot xmlns="urn:x"><link name="a"/></robot>', "t.urdf")
+
+
+def test_read_urdf_returns_original_bytes(tmp_path):
+    data = b'<?xml version="1.0" encoding="UTF-8"?>\n<robot name="r"><link name="a"/></robot>'
+    (tmp_path / "r.urdf").write_bytes(data)
+    model, raw = read_urdf(tmp_path / "r.urdf")
+    assert raw == data and model.links[0].name == "a"
+
+
+# --- xml_safety ------------------------------------------------------------------------
+
+@pytest.mark.parametrize(("doc", "words"), [
+    (b'<!DOCTYPE r [<!ENTITY a "b">]><r/>', "entity declarations"),
+    (b'<!DOCTYPE r [<!ENTITY % a "b">]><r/>', "entity declarations"),
+    (b'<!DOCTYPE r SYSTEM "x.dtd"><r/>', "external DTD"),
+    (b'<!DOCTYPE r PUBLIC "p" "x.dtd"><r/>', "external DTD"),
+    (b"\xff\xfe<\x00r\x00/\x00>\x00", "UTF-16"),
+    (b"\x00\x00\xfe\xff", "UTF-32"),
+])
+def test_hostile_xml_cause(doc, words):
+    assert words in hostile_xml_cause(doc)
+
+
+@pytest.mark.parametrize("doc", [
+    b'<?xml version="1.0"?><robot name="r"/>',
+    b"<!DOCTYPE robot><robot/>",
+    b'<robot><!-- the word ENTITY in a comment --><link name="ENTITY"/></robot>',
+])
+def test_harmless_xml_passes(doc):
+    assert hostile_xml_cause(doc) is None
+
+
+@pytest.mark.parametrize("chunk", [7, 8, 9, 13, 64, 4096])
+def test_stream_scan_finds_declaration_across_chunk_boundaries(chunk):
+    doc = b"<?xml version='1.0'?>" + b" " * 50 + b'<!DOCTYPE c [<!ENTITY x "y">]><c/>'
+    assert "entity" in hostile_xml_stream_cause(io.BytesIO(doc), chunk_size=chunk)
+    assert hostile_xml_stream_cause(io.BytesIO(doc.replace(b"!ENTITY", b"!-- x")),
+                                    chunk_size=chunk) is None
+
+
+def test_safe_parser_reads_nothing_even_without_the_precheck(tmp_path):
+    """Defence in depth: the parser itself neither loads a DTD nor expands an entity."""
+    secret = tmp_path / "secret.dtd"
+    secret.write_text('<!ENTITY x "TOP-SECRET">')
+    leaked = tmp_path / "leak.txt"
+    leaked.write_text("TOP-SECRET")
+    for doc in (f'<!DOCTYPE robot SYSTEM "{secret}"><robot name="&x;"/>',
+                f'<!DOCTYPE robot [<!ENTITY x SYSTEM "file://{leaked}">]><robot name="&x;"/>'):
+        try:
+            root = etree.fromstring(doc.encode(), parser=safe_parser())
+        except etree.XMLSyntaxError:
+            continue  # refusing is as good as not reading
+        assert b"TOP-SECRET" not in etree.tostring(root)
+
+
+def test_entity_bomb_refused_by_the_parser_too():
+    lol = '<!ENTITY lol "lol">' + "".join(
+        f'<!ENTITY lol{i} "{(f"&lol{i - 1};" if i > 1 else "&lol;") * 10}">'
+        for i in range(1, 10))
+    doc = f'<!DOCTYPE r [{lol}]><robot name="&lol9;"/>'.encode()
+    try:
+        root = etree.fromstring(doc, parser=safe_parser())
+    except etree.XMLSyntaxError:
+        return
+    assert len(etree.tostring(root)) < 10_000  # never expanded
+
+
+def test_deep_nesting_message():
+    depth = 300
+    doc = b"<robot>" + b"<a>" * depth + b"</a>" * depth + b"</robot>"
+    with pytest.raises(UrdfError, match="nested deeper than 256 levels"):
+        parse_xml(doc, "t.urdf")

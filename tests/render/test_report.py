@@ -1,0 +1,259 @@
+"""report.py and cli_report.py: the HTML report's data, figures, table and file."""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from lxml import html as lxml_html
+
+from urdfinertia.cli import main
+from urdfinertia.inertia import primitives
+from urdfinertia.link.fix import FixOptions
+from urdfinertia.render.compare_plot import error_series
+from urdfinertia.render.report import ERROR_PANELS, collect, error_figure, render_html, scene_figure
+
+#: A 0.2 x 0.1 x 0.05 m box of 2 kg, for the link whose written inertial is right.
+GOOD = primitives.box((0.2, 0.1, 0.05), 1.0).with_mass(2.0)
+IXX, IYY, IZZ = (float(x) for x in np.diag(GOOD.inertia))
+EVIL = "evil</script><img src=x onerror=alert(1)>"
+
+HAND_URDF = f"""<robot name="hand">
+  <link name="base">
+    <inertial><origin xyz="0 0 0.025"/><mass value="2"/>
+      <inertia ixx="{IXX!r}" ixy="0" ixz="0" iyy="{IYY!r}" iyz="0" izz="{IZZ!r}"/>
+    </inertial>
+    <collision><origin xyz="0 0 0.025"/><geometry><box size="0.2 0.1 0.05"/></geometry>
+    </collision>
+  </link>
+  <link name="not_definite">
+    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0.5" ixz="0" iyy="0.01" iyz="0"
+      izz="0.01"/></inertial>
+    <collision><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <link name="triangle">
+    <inertial><mass value="1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0"
+      izz="0.005"/></inertial>
+    <collision><geometry><cylinder radius="0.03" length="0.2"/></geometry></collision>
+  </link>
+  <link name="not_a_number">
+    <inertial><mass value="nan"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>
+    </inertial>
+    <visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual>
+  </link>
+  <link name="{EVIL.replace('<', '&lt;').replace('>', '&gt;')}"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="not_definite"/>
+    <origin xyz="0 0 0.3"/></joint>
+  <joint name="j2" type="revolute"><parent link="not_definite"/><child link="triangle"/>
+    <origin xyz="0.2 0 0" rpy="0 1.5707963267948966 0"/></joint>
+  <joint name="j3" type="fixed"><parent link="triangle"/><child link="not_a_number"/>
+    <origin xyz="0 0 0.3"/></joint>
+  <joint name="j4" type="fixed"><parent link="base"/>
+    <child link="{EVIL.replace('<', '&lt;').replace('>', '&gt;')}"/></joint>
+</robot>"""
+
+
+@pytest.fixture(scope="module")
+def hand_urdf(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("hand") / "hand.urdf"
+    path.write_text(HAND_URDF)
+    return path
+
+
+@pytest.fixture(scope="module")
+def hand_data(hand_urdf):
+    return collect(hand_urdf, FixOptions())
+
+
+@pytest.fixture(scope="module")
+def hand_html(hand_data) -> str:
+    return render_html(hand_data)
+
+
+def rows_by_name(data):
+    return {r.name: r for r in data.rows}
+
+
+# --- collected data -----------------------------------------------------------------------
+def test_a_right_inertial_gives_two_coinciding_boxes(hand_data):
+    base = rows_by_name(hand_data)["base"]
+    existing, recomputed = (b for b in base.boxes)
+    assert (existing.source, recomputed.source) == ("existing", "recomputed")
+    np.testing.assert_allclose(np.sort(existing.lengths), [0.05, 0.1, 0.2], rtol=1e-9)
+    np.testing.assert_allclose(existing.center, [0.0, 0.0, 0.025], atol=1e-12)
+    np.testing.assert_allclose(recomputed.center, existing.center, atol=1e-12)
+    np.testing.assert_allclose(np.sort(recomputed.lengths), np.sort(existing.lengths),
+                               rtol=1e-9)
+    assert base.comparison.verdict == "ok"
+
+
+def test_boxes_sit_at_the_zero_configuration(hand_data):
+    triangle = rows_by_name(hand_data)["triangle"]
+    recomputed = next(b for b in triangle.boxes if b.source == "recomputed")
+    # The cylinder's CoM is its frame origin: base -> +0.3 z -> +0.2 x.
+    np.testing.assert_allclose(recomputed.center, [0.2, 0.0, 0.3], atol=1e-12)
+    # Its long axis (0.2 m, along the cylinder's z) is turned onto world x by pitch pi/2.
+    long_axis = recomputed.axes[:, int(np.argmax(recomputed.lengths))]
+    np.testing.assert_allclose(np.abs(long_axis), [1.0, 0.0, 0.0], atol=1e-9)
+
+
+def test_invalid_existing_inertials_have_no_box_but_a_reason(hand_data):
+    rows = rows_by_name(hand_data)
+    for name, reason in (("not_definite", "positive semi-definite"),
+                         ("not_a_number", "non-finite")):
+        row = rows[name]
+        assert row.existing is None and reason in row.existing_note
+        assert [b.source for b in row.boxes] == ["recomputed"]
+        assert row.comparison.verdict == "invalid"
+
+
+def test_a_tensor_breaking_the_triangle_inequality_gets_a_flagged_box(hand_data):
+    row = rows_by_name(hand_data)["triangle"]
+    existing = next(b for b in row.boxes if b.source == "existing")
+    assert existing.clipped and np.min(existing.lengths) == 0.0
+    assert row.comparison.verdict == "invalid"
+
+
+def test_a_link_without_anything_has_no_box(hand_data):
+    assert rows_by_name(hand_data)[EVIL].boxes == ()
+
+
+# --- figures ------------------------------------------------------------------------------
+def test_scene_figure_holds_every_box_and_every_link_geometry(hand_data):
+    fig = scene_figure(hand_data)
+    n_boxes = {s: sum(b.source == s for r in hand_data.rows for b in r.boxes)
+               for s in ("existing", "recomputed")}
+    assert n_boxes == {"existing": 2, "recomputed": 4}
+    for source, n in n_boxes.items():
+        mesh = next(t for t in fig.data if t.name == f"{source} inertia boxes")
+        assert len(mesh.x) == 8 * n and len(mesh.i) == 12 * n
+        assert mesh.showlegend  # the legend entry is the toggle
+        edges = next(t for t in fig.data if t.name == f"{source} box edges")
+        assert edges.legendgroup == source and len(edges.x) == 36 * n
+    geometry = [t for t in fig.data if t.legendgroup == "geometry"]
+    assert len(geometry) == 4  # one trace per link that has geometry
+    assert sum(t.showlegend is True for t in geometry) == 1
+
+
+def test_error_figure_draws_the_numbers_of_compare(hand_data):
+    series = hand_data.error_series
+    fig = error_figure(series)
+    bars = [t for t in fig.data if t.type == "bar"]
+    # --mass keep: no mass changed, so compare's mass panel is left out, as in its PNG.
+    assert all(v is None or v < 1e-9 for v in series["mass_error"])
+    panels = ERROR_PANELS[:3]
+    assert len(bars) == len(panels)
+    for bar, (key, _, _, log) in zip(bars, panels, strict=True):
+        assert list(bar.y) == series["links"]
+        for shown, value in zip(bar.x, series[key], strict=True):
+            if value is None:
+                assert shown is None
+            elif log and value > 0:
+                assert shown == pytest.approx(value)
+            elif not log:
+                assert shown == value
+
+
+def test_error_figure_shows_the_mass_panel_when_masses_changed(hand_urdf):
+    data = collect(hand_urdf, FixOptions(mass="density"))
+    fig = error_figure(data.error_series)
+    assert len([t for t in fig.data if t.type == "bar"]) == len(ERROR_PANELS)
+
+
+def test_error_series_is_compares_own(hand_urdf, hand_data):
+    from urdfinertia.analysis.compare import compare_with_geometry
+
+    again = error_series(compare_with_geometry(hand_urdf, FixOptions()))
+    assert json.dumps(again, sort_keys=True) == json.dumps(hand_data.error_series,
+                                                           sort_keys=True)
+
+
+# --- the page -----------------------------------------------------------------------------
+def test_page_loads_nothing_from_elsewhere(hand_html):
+    tree = lxml_html.fromstring(hand_html)
+    assert not tree.xpath("//*[@src]"), "no element may load a resource"
+    assert not tree.xpath("//link") and not tree.xpath("//iframe")
+    scripts = tree.xpath("//script")
+    assert scripts and all(s.get("src") is None for s in scripts)
+    # plotly.js itself is inlined, once, and MathJax is not configured.
+    assert sum("plotly.js v" in (s.text or "")[:2000] for s in scripts) == 1
+    assert "MathJax.Hub.Config" not in hand_html and "window.MathJax" not in hand_html
+
+
+def test_link_names_cannot_break_out_of_the_page(hand_html):
+    assert EVIL not in hand_html
+    tree = lxml_html.fromstring(hand_html)
+    assert not tree.xpath("//img")
+    names = tree.xpath('//table[@id="links"]/tbody/tr/td[1]/text()')
+    assert EVIL in names
+
+
+def test_table_has_one_row_per_link_with_its_story(hand_html, hand_data):
+    tree = lxml_html.fromstring(hand_html)
+    rows = tree.xpath('//table[@id="links"]/tbody/tr')
+    assert len(rows) == len(hand_data.rows) == 5
+    text = {r.xpath("td[1]/text()")[0]: r.text_content() for r in rows}
+    assert "invalid: inertia of a positive mass must be positive semi-definite" in \
+        text["not_definite"]
+    assert "triangle inequality" in text["triangle"]
+    assert "no <inertial>" in text[EVIL]
+    assert "collision: 1 part (closed form box)" in text["base"]
+    assert "kept 2 kg" in text["base"]
+    # Both masses of the base are printed: existing then recomputed.
+    assert re.search(r"E 2\s*R 2(?!\d)", text["base"])
+
+
+def test_page_counts_its_plots_for_whoever_waits_on_them(hand_html):
+    tree = lxml_html.fromstring(hand_html)
+    figures = int(tree.xpath("//body/@data-figures")[0])
+    assert figures == 2
+    divs = tree.xpath('//div[@class="plot"]/@id')
+    assert sorted(divs) == ["errors", "view3d"]
+    for div in divs:  # each is drawn by the script at the end of the page
+        assert f'"{div}":{{"data":' in hand_html
+
+
+# --- the command --------------------------------------------------------------------------
+def test_cli_writes_the_report(tmp_path, robots_dir):
+    out = tmp_path / "nm7mar.html"
+    rc = main(["report", str(robots_dir / "nm7mar.urdf"), "--spec",
+               str(robots_dir / "nm7mar.inertia.toml"), "-o", str(out)])
+    assert rc == 0
+    page = out.read_text(encoding="utf-8")
+    assert "Inertia report: nm7mar" in page
+    tree = lxml_html.fromstring(page)
+    urdf_links = (robots_dir / "nm7mar.urdf").read_text().count("<link name=")
+    assert len(tree.xpath('//table[@id="links"]/tbody/tr')) == urdf_links
+    assert "spec" in tree.xpath('//p[@class="meta"]')[0].text_content()
+    # With the spec, the geometry column names it.
+    assert "spec:" in tree.xpath('//table[@id="links"]')[0].text_content()
+
+
+def test_cli_errors_are_one_line_exit_2(tmp_path, capsys):
+    rc = main(["report", str(tmp_path / "nope.urdf"), "-o", str(tmp_path / "x.html")])
+    assert rc == 2
+    assert "cannot read" in capsys.readouterr().err
+    assert not (tmp_path / "x.html").exists()
+
+
+def test_cli_refuses_a_zero_face_budget(tmp_path, robots_dir):
+    with pytest.raises(SystemExit):
+        main(["report", str(robots_dir / "nm7mar.urdf"), "-o", str(tmp_path / "x.html"),
+              "--view-faces", "0"])
+
+
+def test_a_sixty_link_robot_stays_under_15_mb(tmp_path, erd_dir):
+    urdf = erd_dir / "robots" / "talos_data" / "robots" / "talos_full_v2.urdf"
+    out = tmp_path / "talos.html"
+    assert main(["report", str(urdf), "-o", str(out)]) == 0
+    page = out.read_text(encoding="utf-8")
+    n_links = len(lxml_html.fromstring(page).xpath('//table[@id="links"]/tbody/tr'))
+    assert n_links >= 30
+    size = out.stat().st_size
+    print(f"talos_full_v2: {n_links} links, report {size / 1e6:.2f} MB")
+    assert size < 15e6
+    assert not math.isnan(size)
