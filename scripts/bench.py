@@ -110,7 +110,7 @@ def child_baseline(robots: Path) -> dict:
 def child_tool(robots: Path, out: Path, jobs: int, cache_dir: Path) -> dict:
     from urdfinertia.batch.inputs import collect_jobs
     from urdfinertia.batch.run import BatchSettings, run_batch
-    from urdfinertia.link.fix import FixOptions
+    from urdfinertia.link.options import FixOptions
 
     start = time.perf_counter()
     report = run_batch(collect_jobs([robots], out), FixOptions(),

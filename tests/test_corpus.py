@@ -12,7 +12,8 @@ from support.diffs import assert_only_inertials_differ
 
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.errors import MeshError, UrdfInertiaError
-from urdfinertia.link.fix import FixOptions, fix_file
+from urdfinertia.link.fix import fix_file
+from urdfinertia.link.options import FixOptions
 
 pytestmark = pytest.mark.corpus
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from urdfinertia import cli
-from urdfinertia.descriptions.urdf import read as urdf_read
+from urdfinertia.descriptions import xml as xml_safety
 from urdfinertia.errors import MeshError
 from urdfinertia.mesh import limits
 from urdfinertia.mesh.read import load as mesh_io
@@ -114,7 +114,7 @@ def parser_must_not_run(monkeypatch):
     def forbidden():
         raise AssertionError("the XML parser ran on a hostile document")
 
-    monkeypatch.setattr(urdf_read, "make_parser", forbidden)
+    monkeypatch.setattr(xml_safety, "safe_parser", forbidden)
 
 
 SECRET = "TOP-SECRET-7f3a"
@@ -180,7 +180,7 @@ def test_deep_nesting_refused(workdir, capsys):
 
 def test_oversized_urdf_refused_before_parsing(workdir, capsys, parser_must_not_run,
                                                monkeypatch):
-    monkeypatch.setattr(urdf_read, "MAX_URDF_BYTES", 100)
+    monkeypatch.setattr(xml_safety, "MAX_DOCUMENT_BYTES", 100)
     urdf = workdir / "r.urdf"
     expect_refusal(workdir, urdf, capsys, "r.urdf:", "larger than the limit of 100 bytes")
 

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from urdfinertia.descriptions.urdf.read import read_urdf
-from urdfinertia.link.fix import FixOptions, fix_file
+from urdfinertia.link.fix import fix_file
+from urdfinertia.link.options import FixOptions
 from urdfinertia.link.spec import load_spec
 
 ROOT = Path(__file__).resolve().parents[1]

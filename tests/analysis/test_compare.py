@@ -19,9 +19,9 @@ from urdfinertia.analysis.compare import (
     summary,
 )
 from urdfinertia.cli import main
-from urdfinertia.descriptions.urdf.lenient import RawInertial
+from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.inertia.rotation import rpy_matrix
-from urdfinertia.link.fix import FixOptions
+from urdfinertia.link.options import FixOptions
 from urdfinertia.render.compare_plot import error_series, plot_errors
 
 

@@ -11,7 +11,8 @@ import pytest
 from urdfinertia.analysis.explain import explain_link
 from urdfinertia.cli import main
 from urdfinertia.descriptions.urdf.read import read_urdf
-from urdfinertia.link.fix import FixOptions, fix_file
+from urdfinertia.link.fix import fix_file
+from urdfinertia.link.options import FixOptions
 from urdfinertia.link.spec import load_spec
 
 ROOT = Path(__file__).resolve().parents[2]

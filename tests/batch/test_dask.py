@@ -11,7 +11,7 @@ from urdfinertia.batch.executors import ClusterError, connect_dask
 from urdfinertia.batch.inputs import collect_jobs
 from urdfinertia.batch.run import BatchSettings, run_batch
 from urdfinertia.cli import main
-from urdfinertia.link.fix import FixOptions
+from urdfinertia.link.options import FixOptions
 
 distributed = pytest.importorskip("distributed")
 

@@ -15,7 +15,7 @@ from urdfinertia.batch.run import BatchSettings, run_batch
 from urdfinertia.cache import library as meshlib
 from urdfinertia.cli import main
 from urdfinertia.errors import OutputError, UrdfError
-from urdfinertia.link.fix import FixOptions
+from urdfinertia.link.options import FixOptions
 
 
 def link(name: str, geometry: str, xyz: str = "0 0 0") -> str:

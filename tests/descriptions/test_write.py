@@ -9,7 +9,8 @@ from support.diffs import assert_only_inertials_differ
 from urdfinertia.descriptions.urdf.read import robot_from_bytes
 from urdfinertia.descriptions.urdf.write import format_float, patch_inertials, scan_links
 from urdfinertia.inertia import primitives
-from urdfinertia.link.fix import FixOptions, fix_file
+from urdfinertia.link.fix import fix_file
+from urdfinertia.link.options import FixOptions
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

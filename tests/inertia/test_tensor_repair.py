@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from urdfinertia.cli import main
-from urdfinertia.descriptions.urdf.lenient import RawInertial
+from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.urdf.read import read_urdf
 from urdfinertia.inertia.tensor_repair import (
     MIN_MOMENT_RTOL,

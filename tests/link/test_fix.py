@@ -10,7 +10,8 @@ import trimesh
 from urdfinertia.cli import main
 from urdfinertia.inertia import primitives
 from urdfinertia.inertia.rotation import rpy_matrix
-from urdfinertia.link.fix import FixOptions, fix_file
+from urdfinertia.link.fix import fix_file
+from urdfinertia.link.options import FixOptions
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -10,8 +10,9 @@ import trimesh
 
 from urdfinertia.cli import main
 from urdfinertia.errors import SpecError
-from urdfinertia.link.fix import FixOptions, fix_file
+from urdfinertia.link.fix import fix_file
 from urdfinertia.link.materials import MATERIALS, material_density
+from urdfinertia.link.options import FixOptions
 from urdfinertia.link.spec import load_spec, parse_spec
 
 #: Sums of closed forms: only round-off separates tool and expectation.

@@ -9,7 +9,7 @@ import pytest
 from urdfinertia.analysis.explain import explain_link
 from urdfinertia.cli import main
 from urdfinertia.descriptions.urdf.read import read_urdf
-from urdfinertia.link.fix import FixOptions
+from urdfinertia.link.options import FixOptions
 from urdfinertia.link.spec import load_spec
 from urdfinertia.render.explain_plot import plot_breakdown
 

@@ -13,7 +13,7 @@ from lxml import html as lxml_html
 
 from urdfinertia.cli import main
 from urdfinertia.inertia import primitives
-from urdfinertia.link.fix import FixOptions
+from urdfinertia.link.options import FixOptions
 from urdfinertia.render.compare_plot import error_series
 from urdfinertia.render.report import ERROR_PANELS, collect, error_figure, render_html, scene_figure
 

@@ -18,14 +18,14 @@ import numpy as np
 
 from urdfinertia.analysis.bounds import BoundsCache, link_bounds
 from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
 from urdfinertia.descriptions.model import Link, Robot
-from urdfinertia.descriptions.urdf.lenient import RawInertial
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
 from urdfinertia.inertia.tensor_repair import is_placeholder
 from urdfinertia.link.assemble import assemble
-from urdfinertia.link.fix import PLAUSIBLE_DENSITY, FixOptions, select_geometry
+from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
 from urdfinertia.link.parts import geometry_parts
 
 SEVERITIES = ("error", "warning", "info")

@@ -32,11 +32,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from urdfinertia.descriptions.urdf.lenient import RawInertial, read_urdf_lenient
+from urdfinertia.descriptions.formats import read_description
+from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.link.fix import FixOptions, FixResult, fix_robot
+from urdfinertia.link.fix import fix_robot
 
 #: Principal moments closer than this fraction of the largest count as equal (degenerate).
+from urdfinertia.link.options import FixOptions
+from urdfinertia.link.results import FixResult
+
 #: Moments within a few percent give axes that swing with any perturbation of that size.
 DEGENERATE_RTOL = 0.05
 #: Default thresholds of the verdict (relative CoM distance, inertia error, mass mismatch).
@@ -212,7 +216,7 @@ def compare_with_geometry(path: str | Path, options: FixOptions,
     Links with neither an inertial nor geometry are left out.
     """
     if fix_result is None:
-        robot, data = read_urdf_lenient(path)
+        robot, data = read_description(path, lenient=True)
         fix_result = fix_robot(robot, data, options)
     out = []
     for r in fix_result.links:
@@ -231,8 +235,8 @@ def compare_files(path_a: str | Path, path_b: str | Path, *,
                   tol_com: float = DEFAULT_TOL_COM, tol_inertia: float = DEFAULT_TOL_INERTIA,
                   tol_mass: float = DEFAULT_TOL_MASS) -> list[LinkComparison]:
     """Inertials of URDF A against URDF B, links matched by name (A's order, then B's)."""
-    robot_a, _ = read_urdf_lenient(path_a)
-    robot_b, _ = read_urdf_lenient(path_b)
+    robot_a, _ = read_description(path_a, lenient=True)
+    robot_b, _ = read_description(path_b, lenient=True)
     in_a = {link.name: link.inertial for link in robot_a.links}
     in_b = {link.name: link.inertial for link in robot_b.links}
     names = list(in_a) + [n for n in in_b if n not in in_a]

@@ -25,7 +25,9 @@ from urdfinertia.descriptions.model import Robot
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
 from urdfinertia.link.assemble import PartResult
-from urdfinertia.link.fix import FixOptions, LinkResult, compute_link
+from urdfinertia.link.fix import compute_link
+from urdfinertia.link.options import FixOptions
+from urdfinertia.link.results import LinkResult
 
 
 @dataclass(frozen=True, eq=False)

@@ -31,7 +31,7 @@ from urdfinertia.cache.store import SolidsCache, key_from_digest
 from urdfinertia.cache.version import code_digest
 from urdfinertia.descriptions.paths import RealPaths, resolve_mesh_path
 from urdfinertia.errors import MeshError
-from urdfinertia.link.fix import FixOptions
+from urdfinertia.link.options import FixOptions
 from urdfinertia.mesh.limits import max_mesh_bytes
 
 FILES_FORMAT = "urdfinertia-file-result/2"

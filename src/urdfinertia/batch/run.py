@@ -25,7 +25,7 @@ from urdfinertia.batch.file_cache import CachedResult, FileResults
 from urdfinertia.batch.inputs import FileJob
 from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache, file_entry_key
 from urdfinertia.errors import MeshError, OutputError, UrdfInertiaError
-from urdfinertia.link.fix import FixOptions
+from urdfinertia.link.options import FixOptions
 from urdfinertia.mesh.limits import max_mesh_bytes
 from urdfinertia.timing import StageTimes
 
@@ -129,13 +129,13 @@ def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
 
     Problems are ignored here: the file's own task reports them in context.
     """
+    from urdfinertia.descriptions.formats import read_description
     from urdfinertia.descriptions.model import Mesh
     from urdfinertia.descriptions.paths import resolve_mesh_path
-    from urdfinertia.descriptions.urdf.read import read_urdf
-    from urdfinertia.link.fix import select_geometry
+    from urdfinertia.link.options import select_geometry
 
     try:
-        robot, _ = read_urdf(source)
+        robot, _ = read_description(source)
     except UrdfInertiaError:
         return []
     out: dict[Path, None] = {}
@@ -177,7 +177,7 @@ def mesh_task(path: str, max_faces: int) -> tuple[MeshSolids | Exception, int, S
 def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
                      details: bool = False) -> FileOutcome:
     """Fix one file with ``meshes``; any failure becomes the outcome's one-line error."""
-    from urdfinertia.descriptions.urdf.read import read_urdf_bytes, robot_from_bytes
+    from urdfinertia.descriptions.formats import read_bytes, robot_from_bytes
     from urdfinertia.link.fix import fix_robot
 
     times = StageTimes()
@@ -188,7 +188,7 @@ def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
     step = "read"
     try:
         with times.stage("xml"):
-            data = read_urdf_bytes(source)
+            data = read_bytes(source)
             digest = hashlib.blake2b(data, digest_size=20).hexdigest()
             step = "parse"
             robot = robot_from_bytes(data, source)

@@ -17,8 +17,9 @@ from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.batch.inputs import collect_jobs
 from urdfinertia.batch.run import BatchReport, BatchSettings, prepared_library, run_batch
 from urdfinertia.cache.store import DEFAULT_MAX_BYTES, ENV_VAR
+from urdfinertia.cli.options import positive_int
 from urdfinertia.errors import OutputError
-from urdfinertia.link.fix import FixOptions
+from urdfinertia.link.options import FixOptions
 from urdfinertia.timing import StageTimes
 
 if TYPE_CHECKING:
@@ -28,16 +29,6 @@ if TYPE_CHECKING:
     from urdfinertia.cache.library import MeshLibrary
 
 # rich is imported only to show something: a progress bar on a terminal, a table.
-
-
-def positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1: {text!r}")
-    return value
 
 
 def add_batch_arguments(p: argparse.ArgumentParser) -> None:

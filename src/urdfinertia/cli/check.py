@@ -17,10 +17,9 @@ from rich.table import Table
 from urdfinertia.analysis.check import SEVERITIES, Finding, check_robot
 from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.cache.library import MeshLibrary
-from urdfinertia.cli.fix import package_dir
-from urdfinertia.descriptions.urdf.lenient import read_urdf_lenient
-from urdfinertia.link.fix import GEOMETRY_MODES, FixOptions
-from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
+from urdfinertia.cli.options import add_geometry_source_arguments
+from urdfinertia.descriptions.formats import read_description
+from urdfinertia.link.options import FixOptions
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -32,13 +31,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "density and tensor-size checks)")
     p.add_argument("--show-info", action="store_true",
                    help="also list info findings (lumped masses, massless frames)")
-    p.add_argument("--geometry", choices=GEOMETRY_MODES, default="auto",
-                   help="geometry whose volume gives the implied density (default: auto = "
-                        "collision when the link has any, else visual)")
-    p.add_argument("--package-dir", type=package_dir, action="append", default=[],
-                   metavar="NAME=PATH", help="where package://NAME/ points (repeatable)")
-    p.add_argument("--max-faces", type=int, default=DEFAULT_MAX_FACES, metavar="N",
-                   help=f"refuse meshes with more faces (default {DEFAULT_MAX_FACES})")
+    add_geometry_source_arguments(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print only the summary line")
 
 
@@ -55,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     report = []
     code = 0
     for path in args.urdf:
-        robot, _ = read_urdf_lenient(path)
+        robot, _ = read_description(path, lenient=True)
         findings = check_robot(robot, meshes=meshes, options=options)
         code = max(code, exit_code(findings, args.strict))
         report.append({"file": str(path), "robot": robot.name, "links": len(robot.links),

@@ -24,7 +24,7 @@ from urdfinertia.analysis.compare import (
     worst_first,
 )
 from urdfinertia.atomic import atomic_write_bytes
-from urdfinertia.cli.fix import add_common_geometry_arguments, options_from_args, positive_float
+from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args, positive_float
 from urdfinertia.errors import OutputError
 
 

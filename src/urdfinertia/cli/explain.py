@@ -10,8 +10,8 @@ from pathlib import Path
 from rich.console import Console
 
 from urdfinertia.analysis.explain import breakdown_dict, explain_link
-from urdfinertia.cli.fix import add_common_geometry_arguments, options_from_args
-from urdfinertia.descriptions.urdf.read import read_urdf
+from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args
+from urdfinertia.descriptions.formats import read_description
 from urdfinertia.render.table import breakdown_table
 
 
@@ -28,7 +28,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     options = options_from_args(args)
-    robot, _ = read_urdf(args.urdf)
+    robot, _ = read_description(args.urdf)
     breakdown = explain_link(robot, args.link, options)
     if args.plot is not None:
         from urdfinertia.render.explain_plot import plot_breakdown

@@ -15,79 +15,12 @@ from urdfinertia.cli.batch import (
     run_many,
     single_file_library,
 )
+from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args
 from urdfinertia.errors import OutputError, UrdfInertiaError
-from urdfinertia.link.fix import GEOMETRY_MODES, MASS_MODES, FixOptions, fix_file
-from urdfinertia.mesh.limits import BYTES_PER_FACE, DEFAULT_MAX_FACES
+from urdfinertia.link.fix import fix_file
 
 # rich (tables) and the JSON writer are imported when they are used: a quiet batch run
 # whose results are all cached needs neither.
-
-
-def package_dir(text: str) -> tuple[str, Path]:
-    name, sep, path = text.partition("=")
-    if not sep or not name or not path:
-        raise argparse.ArgumentTypeError(f"expected NAME=PATH, got {text!r}")
-    return name, Path(path)
-
-
-#: Upper bound of --density, kg/m^3: the densest element (osmium) is 22,590; a larger value
-#: is a unit slip (g/cm^3 read as kg/m^3 goes the other way, but 1e6+ is never a material).
-MAX_DENSITY = 1e6
-
-
-def density_value(text: str) -> float:
-    value = positive_float(text)
-    if value > MAX_DENSITY:
-        raise argparse.ArgumentTypeError(f"{text} kg/m^3 is denser than any material "
-                                         f"(limit {MAX_DENSITY:g})")
-    return value
-
-
-def positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (value > 0 and value != float("inf")):
-        raise argparse.ArgumentTypeError(f"must be positive and finite: {text!r}")
-    return value
-
-
-def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
-    """Options shared by every command that computes from geometry."""
-    p.add_argument("--geometry", choices=GEOMETRY_MODES, default="auto",
-                   help="geometry to use: auto = collision when the link has any, "
-                        "else visual (default: auto)")
-    p.add_argument("--mass", choices=MASS_MODES, default="keep",
-                   help="keep: keep a link's existing positive mass and take CoM and tensor "
-                        "from the geometry; density: mass = density x volume (default: keep)")
-    p.add_argument("--density", type=density_value, default=1000.0, metavar="KG_PER_M3",
-                   help="density for links without mass or with --mass density "
-                        "(kg/m^3, default 1000)")
-    p.add_argument("--package-dir", type=package_dir, action="append", default=[],
-                   metavar="NAME=PATH", help="where package://NAME/ points (repeatable)")
-    p.add_argument("--spec", type=Path, metavar="TOML",
-                   help="decomposition spec: parts with known mass, density or material")
-    p.add_argument("--max-faces", type=int, default=DEFAULT_MAX_FACES, metavar="N",
-                   help=f"refuse meshes with more faces, or mesh files larger than "
-                        f"{BYTES_PER_FACE} bytes per face plus 1 MiB, before reading them "
-                        f"(default {DEFAULT_MAX_FACES})")
-
-
-def options_from_args(args: argparse.Namespace) -> FixOptions:
-    spec = None
-    if getattr(args, "spec", None) is not None:
-        from urdfinertia.link.spec import load_spec
-
-        spec = load_spec(args.spec)
-    return FixOptions(
-        geometry=args.geometry,
-        mass=args.mass,
-        density=args.density,
-        package_dirs=dict(args.package_dir),
-        max_faces=args.max_faces,
-        spec=spec,
-    )
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

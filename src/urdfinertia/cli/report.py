@@ -7,8 +7,7 @@ import sys
 from pathlib import Path
 
 from urdfinertia.atomic import atomic_write_bytes
-from urdfinertia.cli.batch import positive_int
-from urdfinertia.cli.fix import add_common_geometry_arguments, options_from_args
+from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args, positive_int
 from urdfinertia.render.report import build_report
 from urdfinertia.render.scene import DEFAULT_VIEW_FACES, VIEW_MODES
 

@@ -127,6 +127,8 @@ class Robot:
     links: tuple[Link, ...]
     joints: tuple[Joint, ...]
     path: Path | None = None
+    #: the registered description format that read it ("urdf", ...): it also writes it
+    format: str = "urdf"
 
     def link(self, name: str) -> Link:
         for link in self.links:

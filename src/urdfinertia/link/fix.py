@@ -7,104 +7,21 @@ Data flow: read (:mod:`urdf_read`) -> parts (:mod:`parts`) -> assemble (:mod:`as
 
 from __future__ import annotations
 
-import math
-from collections.abc import Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
+from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, existing_mass, select_geometry
+from urdfinertia.link.results import FixResult, LinkResult
 
 if TYPE_CHECKING:
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.descriptions.model import GeometryRef, Inertial, Link, Robot
+    from urdfinertia.descriptions.model import Link, Robot
     from urdfinertia.link.assemble import Assembly
     from urdfinertia.link.parts import Part
 
 # The computing modules (numpy, lxml, the mesh readers) are imported by the functions that
 # use them: a warm batch run needs only FixOptions and reuses every result.
-
-GEOMETRY_MODES = ("auto", "collision", "visual")
-MASS_MODES = ("keep", "density")
-#: Densities outside this range (kg/m^3) suggest a unit slip or a placeholder mass.
-PLAUSIBLE_DENSITY = (50.0, 25000.0)
-
-
-@dataclass(frozen=True)
-class FixOptions:
-    """What ``urdf-inertia fix`` was asked to do.
-
-    geometry : "auto" (collision if the link has any, else visual), "collision" or "visual".
-    mass : "keep" (keep a link's existing positive mass, geometry gives CoM and tensor)
-        or "density" (mass = density x volume).
-    density : kg/m^3 used when a link has no mass or with ``mass="density"``.
-    """
-
-    geometry: str = "auto"
-    mass: str = "keep"
-    density: float = 1000.0
-    package_dirs: Mapping[str, Path] = field(default_factory=dict)
-    max_faces: int = DEFAULT_MAX_FACES
-    spec: object | None = None  # urdfinertia.link.spec.Spec, when given
-
-    def __post_init__(self) -> None:
-        if self.geometry not in GEOMETRY_MODES:
-            raise ValueError(f"geometry must be one of {GEOMETRY_MODES}")
-        if self.mass not in MASS_MODES:
-            raise ValueError(f"mass must be one of {MASS_MODES}")
-        if not (math.isfinite(self.density) and self.density > 0):
-            raise ValueError("density must be positive")
-
-
-@dataclass(frozen=True, eq=False)
-class LinkResult:
-    """What happened to one link."""
-
-    name: str
-    status: str  # "recomputed" | "untouched"
-    geometry: str  # "collision" | "visual" | "spec" | "none"
-    assembly: Assembly | None
-    previous: Inertial | None
-    warnings: tuple[str, ...] = ()
-
-    @property
-    def size(self) -> float:
-        """A length scale of the link (radius of gyration plus CoM offset), m."""
-        if self.assembly is None:
-            return 0.0
-        import numpy as np
-
-        t = self.assembly.total
-        return float(np.sqrt(np.trace(t.inertia) / t.mass) + np.linalg.norm(t.com))
-
-
-@dataclass(frozen=True, eq=False)
-class FixResult:
-    path: Path
-    robot: Robot
-    links: tuple[LinkResult, ...]
-    original: bytes
-    output: bytes
-
-    @property
-    def changed(self) -> bool:
-        return self.output != self.original
-
-
-def select_geometry(link: Link, mode: str) -> tuple[str, tuple[GeometryRef, ...]]:
-    """Which geometry elements make the link's parts (see :class:`FixOptions`)."""
-    if mode == "collision" or (mode == "auto" and link.collisions):
-        return "collision", link.collisions
-    if mode == "visual" or (mode == "auto" and link.visuals):
-        return "visual", link.visuals
-    return "none", ()
-
-
-def existing_mass(link: Link) -> float | None:
-    if link.inertial is not None and link.inertial.mass > 0:
-        return link.inertial.mass
-    return None
 
 
 def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir: Path,
@@ -114,7 +31,7 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir:
     from urdfinertia.link.parts import geometry_parts
 
     spec = options.spec
-    link_spec = spec.link(link.name) if spec is not None else None  # type: ignore[attr-defined]
+    link_spec = spec.link(link.name) if spec is not None else None
     if link_spec is not None:
         parts, pinned = link_spec.parts(link, meshes, urdf_dir)
         role = "spec"
@@ -176,14 +93,14 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
               meshes: MeshLibrary | None = None) -> FixResult:
     """Recompute all links of ``robot`` and return the patched document."""
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.descriptions.urdf.write import patch_inertials
+    from urdfinertia.descriptions.formats import format_of
 
     path = robot.path or Path("robot.urdf")
     if meshes is None:
         meshes = MeshLibrary(options.package_dirs, options.max_faces)
     urdf_dir = path.parent
     if options.spec is not None:
-        options.spec.check_links(robot)  # type: ignore[attr-defined]
+        options.spec.check_links(robot)
     results = []
     for link in robot.links:
         try:
@@ -192,7 +109,7 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
             raise exc.with_context(file=path, link=link.name) from None
     new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}
     try:
-        output = patch_inertials(data, new)
+        output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path) from None
     return FixResult(path, robot, tuple(results), data, output)
@@ -200,7 +117,8 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
 
 def fix_file(path: str | Path, options: FixOptions,
              meshes: MeshLibrary | None = None) -> FixResult:
-    from urdfinertia.descriptions.urdf.read import read_urdf
+    from urdfinertia.descriptions.formats import read_description
 
-    robot, data = read_urdf(path)
+    robot, data = read_description(path)
     return fix_robot(robot, data, options, meshes)
+

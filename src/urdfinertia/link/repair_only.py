@@ -12,14 +12,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from urdfinertia.descriptions.formats import format_of, read_description
+from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import Link
-from urdfinertia.descriptions.urdf.lenient import RawInertial, read_urdf_lenient
-from urdfinertia.descriptions.urdf.write import patch_inertials
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.tensor_repair import repair_tensor
 from urdfinertia.link.assemble import Assembly
-from urdfinertia.link.fix import FixResult, LinkResult
+from urdfinertia.link.results import FixResult, LinkResult
 
 
 def repair_link(link: Link) -> LinkResult:
@@ -54,12 +54,12 @@ def repair_link(link: Link) -> LinkResult:
 
 def repair_file(path: str | Path) -> FixResult:
     """Repair every invalid tensor of the URDF at ``path``; other bytes are unchanged."""
-    robot, data = read_urdf_lenient(path)
+    robot, data = read_description(path, lenient=True)
     results = tuple(repair_link(link) for link in robot.links)
     # Size only sets the round-off floor for CoM components; the written CoM is exact.
     new = {r.name: (r.assembly.total, 1.0) for r in results if r.assembly is not None}
     try:
-        output = patch_inertials(data, new)
+        output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path) from None
     return FixResult(Path(path), robot, results, data, output)

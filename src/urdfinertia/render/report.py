@@ -20,9 +20,11 @@ from urdfinertia import __version__
 from urdfinertia.analysis.check import Finding, check_robot
 from urdfinertia.analysis.compare import LinkComparison, compare_with_geometry, summary
 from urdfinertia.cache.library import MeshLibrary
-from urdfinertia.descriptions.urdf.lenient import read_urdf_lenient
+from urdfinertia.descriptions.formats import read_description
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.link.fix import FixOptions, FixResult, LinkResult, fix_robot
+from urdfinertia.link.fix import fix_robot
+from urdfinertia.link.options import FixOptions
+from urdfinertia.link.results import FixResult, LinkResult
 from urdfinertia.render.compare_plot import error_series
 from urdfinertia.render.scene import (
     DEFAULT_VIEW_FACES,
@@ -75,7 +77,7 @@ def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
     The file is read leniently (non-finite inertial values are kept) so that a broken
     inertial shows up as invalid in the report instead of stopping it.
     """
-    robot, data = read_urdf_lenient(path)
+    robot, data = read_description(path, lenient=True)
     meshes = MeshLibrary(options.package_dirs, options.max_faces)
     fix = fix_robot(robot, data, options, meshes)
     comparisons = compare_with_geometry(path, options, fix_result=fix)

@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.link.fix import FixResult, LinkResult
+from urdfinertia.link.results import FixResult, LinkResult
 
 
 def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:

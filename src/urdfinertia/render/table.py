@@ -9,7 +9,7 @@ from rich.console import Console
 from rich.table import Table
 
 from urdfinertia.analysis.explain import Breakdown, Contribution, link_breakdown
-from urdfinertia.link.fix import LinkResult
+from urdfinertia.link.results import LinkResult
 
 
 def _g(x: float) -> str:

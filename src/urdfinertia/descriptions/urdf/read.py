@@ -14,6 +14,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from urdfinertia.descriptions.formats import read_bytes
 from urdfinertia.descriptions.model import (
     Box,
     Capsule,
@@ -28,16 +29,12 @@ from urdfinertia.descriptions.model import (
     Shape,
     Sphere,
 )
-from urdfinertia.descriptions.xml import MAX_XML_DEPTH, hostile_xml_cause, safe_parser
+from urdfinertia.descriptions.xml import parse_document
 from urdfinertia.errors import UrdfError
 
-#: Largest URDF accepted, bytes (the biggest real ones are a few MB).
-MAX_URDF_BYTES = 64 * 1024 * 1024
 #: Largest magnitude of any number read (SI units: 1e9 m, kg or kg m^2 describe no robot);
 #: keeps every product the maths forms far from float64 overflow (1e308).
 MAX_MAGNITUDE = 1e9
-#: Encodings the byte-level patcher (:mod:`urdf_write`) can splice safely.
-_ENCODINGS = {"utf-8", "utf8", "us-ascii", "ascii"}
 #: A decimal number as XML Schema writes a double, without NaN/INF (checked separately)
 #: and without what Python's ``float`` also takes (``1_0``, non-ASCII digits, spaces).
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
@@ -48,49 +45,14 @@ _VALID_NUMBERS: dict[tuple[str, int], tuple[float, ...]] = {}
 _MAX_VALID_NUMBERS = 1 << 16
 
 
-def make_parser() -> etree.XMLParser:
-    """The only XML parser this package uses (see :func:`xml_safety.safe_parser`)."""
-    return safe_parser()
-
-
 def parse_xml(data: bytes, file: str | Path) -> etree._Element:
-    """Parse URDF bytes into an lxml root element, refusing hostile constructs.
-
-    Checked before lxml runs: size (``MAX_URDF_BYTES``), entity declarations, external
-    DTDs and UTF-16/32 encodings (:func:`xml_safety.hostile_xml_cause`). lxml then runs
-    with libxml2's default limits (nesting depth ``MAX_XML_DEPTH``).
-    """
-    if len(data) > MAX_URDF_BYTES:
-        raise UrdfError(f"file is larger than the limit of {MAX_URDF_BYTES} bytes", file=file)
-    cause = hostile_xml_cause(data)
-    if cause:
-        raise UrdfError(cause, file=file)
-    try:
-        root = etree.fromstring(data, parser=make_parser())
-    except etree.XMLSyntaxError as exc:
-        line = exc.lineno if getattr(exc, "lineno", None) else None
-        msg = getattr(exc, "msg", None) or str(exc)
-        if "Excessive depth" in msg:
-            msg = f"elements nested deeper than {MAX_XML_DEPTH} levels"
-        raise UrdfError(f"malformed XML: {msg}", file=file, line=line) from None
-    except ValueError as exc:  # lxml refuses e.g. a str with an encoding declaration
-        raise UrdfError(f"malformed XML: {exc}", file=file) from None
-    encoding = (root.getroottree().docinfo.encoding or "utf-8").lower()
-    if encoding not in _ENCODINGS:
-        raise UrdfError(f"encoding '{encoding}' is not supported: convert the file to UTF-8",
-                        file=file)
-    if not isinstance(root.tag, str) or root.tag != "robot":
-        raise UrdfError(f"root element is <{root.tag}>, expected <robot>", file=file,
-                        line=root.sourceline)
-    return root
+    """Parse URDF bytes into an lxml root element (:func:`xml.parse_document`)."""
+    return parse_document(data, file, ("robot",))
 
 
 def read_urdf_bytes(path: str | Path) -> bytes:
     """The file's bytes, or a :class:`UrdfError` naming it."""
-    try:
-        return Path(path).read_bytes()
-    except OSError as exc:
-        raise UrdfError(f"cannot read: {exc.strerror or exc}", file=path) from None
+    return read_bytes(path)
 
 
 def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
