@@ -83,3 +83,28 @@ def test_capsule_of_zero_length_is_a_sphere():
 def test_invalid_sizes_raise(call):
     with pytest.raises(ValueError):
         call()
+
+
+def test_ellipsoid_is_a_scaled_sphere_mesh():
+    """A sphere mesh scaled by (a, b, c) is an ellipsoid mesh: same shortfall as the sphere."""
+    radii = (0.3, 0.1, 0.05)
+    closed = primitives.ellipsoid(radii, RHO)
+    ball = trimesh.creation.icosphere(subdivisions=6, radius=1.0)
+    ball.apply_scale(radii)
+    mesh = meshed(ball)
+    # subdivisions=6 loses about 3e-4 of the unit ball's volume (inscribed polyhedron)
+    assert mesh.mass == pytest.approx(closed.mass, rel=1e-3)
+    np.testing.assert_allclose(np.diag(mesh.inertia), np.diag(closed.inertia), rtol=2e-3)
+    np.testing.assert_allclose(closed.com, 0.0)
+
+
+def test_ellipsoid_with_equal_radii_is_the_sphere():
+    a = primitives.ellipsoid((0.2, 0.2, 0.2), RHO)
+    b = primitives.sphere(0.2, RHO)
+    assert a.mass == pytest.approx(b.mass, rel=1e-15)
+    np.testing.assert_allclose(a.inertia, b.inertia, rtol=1e-14)
+
+
+def test_ellipsoid_refuses_a_zero_radius():
+    with pytest.raises(ValueError, match="ellipsoid"):
+        primitives.ellipsoid((0.1, 0.0, 0.1), RHO)

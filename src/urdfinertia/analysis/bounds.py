@@ -12,7 +12,16 @@ from pathlib import Path
 import numpy as np
 
 from urdfinertia.cache.library import MeshLibrary
-from urdfinertia.descriptions.model import Box, Capsule, Cylinder, GeometryRef, Mesh, Shape, Sphere
+from urdfinertia.descriptions.model import (
+    Box,
+    Capsule,
+    Cylinder,
+    Ellipsoid,
+    GeometryRef,
+    Mesh,
+    Shape,
+    Sphere,
+)
 from urdfinertia.mesh.read.load import load_mesh
 
 
@@ -47,6 +56,9 @@ def shape_points(shape: Shape, cache: BoundsCache, urdf_dir: Path) -> np.ndarray
         return _box_corners(-half, half)
     if isinstance(shape, Capsule):
         half = np.array([shape.radius, shape.radius, shape.length / 2 + shape.radius])
+        return _box_corners(-half, half)
+    if isinstance(shape, Ellipsoid):
+        half = np.asarray(shape.radii, dtype=np.float64)
         return _box_corners(-half, half)
     if isinstance(shape, Mesh):
         return cache.vertices(shape.filename, urdf_dir) * np.asarray(shape.scale)

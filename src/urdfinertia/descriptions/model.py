@@ -49,12 +49,17 @@ class Capsule:
 
 
 @dataclass(frozen=True)
+class Ellipsoid:
+    radii: tuple[float, float, float]  # semi-axes along x, y, z, m
+
+
+@dataclass(frozen=True)
 class Mesh:
     filename: str  # the URI as written
     scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
 
 
-Shape = Box | Cylinder | Sphere | Capsule | Mesh
+Shape = Box | Cylinder | Sphere | Capsule | Ellipsoid | Mesh
 
 
 @dataclass(frozen=True)
@@ -67,6 +72,10 @@ class GeometryRef:
     origin: Origin
     shape: Shape
     line: int | None = None
+    #: what the description itself states about the element's material (MJCF geom
+    #: ``density``/``mass``, SDF ``<density>``): kg/m^3 and kg, None when it says nothing
+    density: float | None = None
+    mass: float | None = None
 
     @property
     def label(self) -> str:

@@ -44,6 +44,15 @@ def sphere(radius: float, density: float) -> MassProperties:
     return MassProperties(m, np.zeros(3), np.eye(3) * 0.4 * m * radius**2)
 
 
+def ellipsoid(radii: ArrayLike, density: float) -> MassProperties:
+    """Solid ellipsoid of semi-axes ``radii = (a, b, c)`` along x, y, z."""
+    a, b, c = np.asarray(radii, dtype=np.float64)
+    _positive("ellipsoid radii", a, b, c)
+    m = density * 4.0 / 3.0 * np.pi * a * b * c
+    diag = m / 5.0 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+    return MassProperties(m, np.zeros(3), np.diag(diag))
+
+
 def capsule(radius: float, length: float, density: float) -> MassProperties:
     """Capsule along z: a cylinder of ``radius`` and ``length`` plus two hemispherical caps.
 

@@ -16,7 +16,16 @@ from pathlib import Path
 import numpy as np
 
 from urdfinertia.cache.library import MeshLibrary
-from urdfinertia.descriptions.model import Box, Capsule, Cylinder, GeometryRef, Mesh, Shape, Sphere
+from urdfinertia.descriptions.model import (
+    Box,
+    Capsule,
+    Cylinder,
+    Ellipsoid,
+    GeometryRef,
+    Mesh,
+    Shape,
+    Sphere,
+)
 from urdfinertia.errors import MeshError, UrdfInertiaError
 from urdfinertia.inertia import primitives
 from urdfinertia.inertia.massprops import MassProperties
@@ -77,6 +86,8 @@ def shape_solids(shape: Shape, meshes: MeshLibrary, urdf_dir: Path,
     if isinstance(shape, Capsule):
         return [(primitives.capsule(shape.radius, shape.length, 1.0),
                  "closed form capsule", ())]
+    if isinstance(shape, Ellipsoid):
+        return [(primitives.ellipsoid(shape.radii, 1.0), "closed form ellipsoid", ())]
     if isinstance(shape, Mesh):
         path = meshes.resolve(shape.filename, urdf_dir)
         found = meshes.solids(path).scaled(shape.scale)
@@ -105,5 +116,15 @@ def geometry_parts(ref: GeometryRef, meshes: MeshLibrary, urdf_dir: Path) -> lis
     for i, (unit, method, notes) in enumerate(bodies):
         name = ref.label if len(bodies) == 1 else f"{ref.label} body {i + 1}"
         parts.append(Part(name=name, element=ref.label, unit=unit, pose=pose, method=method,
+                          density=ref.density, mass=_share(ref.mass, unit, bodies),
                           notes=notes))
     return parts
+
+
+def _share(mass: float | None, unit: MassProperties,
+           bodies: list[tuple[MassProperties, str, tuple[str, ...]]]) -> float | None:
+    """An element's stated mass split over its bodies by volume (None: not stated)."""
+    if mass is None:
+        return None
+    total = sum(b[0].mass for b in bodies)
+    return mass * unit.mass / total if total > 0 else None

@@ -24,6 +24,7 @@ from urdfinertia.descriptions.model import (
     Box,
     Capsule,
     Cylinder,
+    Ellipsoid,
     Inertial,
     Link,
     Mesh,
@@ -236,6 +237,9 @@ def primitive_triangles(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
         m = trimesh.creation.icosphere(subdivisions=2, radius=shape.radius)
     elif isinstance(shape, Capsule):
         m = trimesh.creation.capsule(height=shape.length, radius=shape.radius, count=[16, 8])
+    elif isinstance(shape, Ellipsoid):
+        m = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
+        m.apply_scale(shape.radii)
     else:
         raise TypeError(f"not a primitive: {shape!r}")
     return np.asarray(m.vertices), np.asarray(m.faces)
