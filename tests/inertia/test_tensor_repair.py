@@ -10,13 +10,8 @@ import pytest
 from urdfinertia.cli import main
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.urdf.read import read_urdf
-from urdfinertia.inertia.tensor_repair import (
-    MIN_MOMENT_RTOL,
-    REPAIR_MARGIN,
-    diagnose_tensor,
-    is_placeholder,
-    repair_tensor,
-)
+from urdfinertia.inertia.tensor_repair import MIN_MOMENT_RTOL, REPAIR_MARGIN, repair_tensor
+from urdfinertia.inertia.validity import diagnose_tensor, is_placeholder
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:

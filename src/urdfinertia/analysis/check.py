@@ -23,7 +23,7 @@ from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
 from urdfinertia.descriptions.model import Link, Robot
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
-from urdfinertia.inertia.tensor_repair import is_placeholder
+from urdfinertia.inertia.validity import is_placeholder
 from urdfinertia.link.assemble import assemble
 from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
 from urdfinertia.link.parts import geometry_parts

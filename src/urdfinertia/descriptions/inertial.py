@@ -14,7 +14,7 @@ import numpy as np
 from urdfinertia.descriptions.model import Inertial
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.rotation import rpy_matrix
-from urdfinertia.inertia.tensor_repair import TensorDiagnosis, diagnose_tensor
+from urdfinertia.inertia.validity import TensorDiagnosis, diagnose_tensor
 
 
 @dataclass(frozen=True, eq=False)

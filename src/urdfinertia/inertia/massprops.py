@@ -20,10 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-#: Relative tolerance for symmetry and sign checks of an inertia tensor.
-SYMMETRY_RTOL = 1e-9
-#: Eigenvalues may dip below zero by this fraction of the trace (round-off on thin bodies).
-DEFINITENESS_RTOL = 1e-9
+from urdfinertia.inertia.validity import SEMIDEFINITE_RTOL, SYMMETRY_RTOL, is_valid_tensor
 
 
 def point_mass_inertia(mass: float, offset: ArrayLike) -> np.ndarray:
@@ -71,7 +68,7 @@ class MassProperties:
             raise ValueError("inertia tensor must be symmetric")
         inertia = 0.5 * (inertia + inertia.T)
         (s00, s01, s02), (_, s11, s12), (_, _, s22) = inertia.tolist()
-        slack = DEFINITENESS_RTOL * abs(float(np.trace(inertia)))
+        slack = SEMIDEFINITE_RTOL * abs(float(np.trace(inertia)))
         sign = 1.0 if mass >= 0 else -1.0
         if not _surely_semidefinite(sign * s00, sign * s01, sign * s02, sign * s11,
                                     sign * s12, sign * s22, slack):
@@ -186,12 +183,8 @@ class MassProperties:
         return moments, axes
 
     def is_physical(self) -> bool:
-        """True when mass > 0 and the inertia is positive definite and meets A + B >= C."""
-        if self.mass <= 0:
-            return False
-        moments, _ = self.principal()
-        slack = DEFINITENESS_RTOL * float(np.sum(moments))
-        return bool(moments[0] > 0 and moments[0] + moments[1] >= moments[2] - slack)
+        """True when mass > 0 and the tensor is valid (:func:`validity.is_valid_tensor`)."""
+        return self.mass > 0 and is_valid_tensor(self.inertia)
 
     def __repr__(self) -> str:
         d = np.diag(self.inertia)

@@ -1,0 +1,129 @@
+"""The one definition of a physically valid inertia tensor, with every tolerance it uses.
+
+Pure numpy. A rigid body's central inertia is symmetric, positive definite, and its
+principal moments ``A <= B <= C`` meet the triangle inequality ``A + B >= C`` (each moment
+is ``integral(r_perp^2 dm)``, and ``A + B - C = 2 integral(z^2 dm) >= 0`` along C's axis).
+MuJoCo refuses a body breaking either, with no tolerance (measured with mujoco 3: a
+violation of 1e-12 relative is already refused), so the triangle test here allows round-off
+only: ``diag(1, 1, 2 + 2e-9)`` is invalid everywhere (``MassProperties.is_physical``,
+``check``, ``fix --repair-only``, the report), because a simulator refuses it.
+
+Two weaker notions live here too, so that no other module defines a tolerance:
+:data:`SYMMETRY_RTOL` (an asymmetry larger than this is not round-off) and
+:data:`SEMIDEFINITE_RTOL`, the slack of :class:`~urdfinertia.inertia.massprops.MassProperties`'
+construction check, which admits the semi-definite tensors of intermediate bodies (a point
+mass, a flat plate, a cavity) that are not themselves simulated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+#: A triangle-inequality excess ``(C - A - B) / C`` above this is a violation. Round-off of
+#: an eigen-decomposition is ~1e-16; MuJoCo refuses anything above zero.
+TRIANGLE_RTOL = 1e-12
+#: An entry asymmetry ``max|I - I^T| / max|I|`` above this is "not symmetric" (also the
+#: construction check of ``MassProperties``).
+SYMMETRY_RTOL = 1e-9
+#: Slack of the semi-definiteness test at construction, as a fraction of the trace.
+SEMIDEFINITE_RTOL = 1e-9
+#: Placeholder magnitudes: a diagonal of all ones or of tiny equal values, no products.
+PLACEHOLDER_TINY = 1e-6
+
+
+def as_tensor(inertia: ArrayLike) -> np.ndarray:
+    t = np.asarray(inertia, dtype=np.float64)
+    if t.shape != (3, 3):
+        raise ValueError(f"inertia must have shape (3, 3), got {t.shape}")
+    return t
+
+
+@dataclass(frozen=True, eq=False)
+class TensorDiagnosis:
+    """What is wrong with a (3, 3) inertia tensor, if anything.
+
+    Attributes
+    ----------
+    finite : bool
+        Every entry is finite. When False the other fields are NaN.
+    asymmetry : float
+        ``max|I - I^T| / max|I|`` (0 for a URDF tensor, which is symmetric by construction).
+    moments : (3,) float
+        Principal moments of the symmetric part, ascending, kg m^2.
+    axes : (3, 3) float
+        Principal axes as columns, matching ``moments``.
+    triangle_excess : float
+        ``(C - A - B) / C``; positive means the triangle inequality is broken by that
+        fraction of the largest moment.
+    """
+
+    finite: bool
+    asymmetry: float
+    moments: np.ndarray
+    axes: np.ndarray
+    triangle_excess: float
+
+    @property
+    def symmetric(self) -> bool:
+        return self.finite and self.asymmetry <= SYMMETRY_RTOL
+
+    @property
+    def zero(self) -> bool:
+        return self.finite and bool(np.all(self.moments == 0))
+
+    @property
+    def positive_definite(self) -> bool:
+        return self.finite and bool(self.moments[0] > 0)
+
+    @property
+    def triangle_ok(self) -> bool:
+        return self.finite and not self.triangle_excess > TRIANGLE_RTOL
+
+    @property
+    def valid(self) -> bool:
+        return self.symmetric and self.positive_definite and self.triangle_ok
+
+
+def diagnose_tensor(inertia: ArrayLike) -> TensorDiagnosis:
+    """Principal moments, symmetry and triangle-inequality margin of ``inertia``."""
+    t = as_tensor(inertia)
+    if not np.all(np.isfinite(t)):
+        nan3 = np.full(3, np.nan)
+        return TensorDiagnosis(False, np.nan, nan3, np.full((3, 3), np.nan), np.nan)
+    scale = float(np.abs(t).max())
+    asym = float(np.abs(t - t.T).max()) / scale if scale > 0 else 0.0
+    moments, axes = np.linalg.eigh(0.5 * (t + t.T))
+    largest = float(moments[2])
+    excess = (largest - moments[0] - moments[1]) / largest if largest > 0 else 0.0
+    return TensorDiagnosis(True, asym, moments, axes, float(excess))
+
+
+def is_placeholder(inertia: ArrayLike) -> bool:
+    """True for the literal placeholders ``diag(1, 1, 1)`` and ``diag(e, e, e)`` with ``e`` a
+    power of ten <= 1e-6, no products.
+
+    Exporters and hand-written URDFs use these when no value is known; they are almost never
+    a body's real inertia. Equal tiny moments that are not a round power of ten are left
+    alone: a small sphere has them (allegro's finger tips: 9.68e-07 = 2/5 m r^2).
+    """
+    t = as_tensor(inertia)
+    if not np.all(np.isfinite(t)):
+        return False
+    off = t[~np.eye(3, dtype=bool)]
+    d = np.diag(t)
+    if np.any(off != 0) or not (d[0] == d[1] == d[2]):
+        return False
+    if d[0] == 1.0:
+        return True
+    if not 0 < d[0] <= PLACEHOLDER_TINY:
+        return False
+    exponent = np.log10(d[0])
+    return bool(abs(exponent - np.round(exponent)) < 1e-9)
+
+
+def is_valid_tensor(inertia: ArrayLike) -> bool:
+    """Symmetric, positive definite and ``A + B >= C`` up to round-off (module doc)."""
+    return diagnose_tensor(inertia).valid
