@@ -19,6 +19,36 @@ from urdfinertia.errors import OutputError
 _UMASK_LOCK = threading.Lock()
 
 
+def replace_file(target: Path, data: bytes, *, durable: bool = True,
+                 mode: int | None = None) -> None:
+    """The one temporary-file-and-rename dance: ``target`` holds ``data`` or is untouched.
+
+    The temporary file ``.<name>.*.tmp`` sits in ``target``'s folder (a rename never
+    crosses file systems) and is removed on any failure, KeyboardInterrupt included.
+    ``durable``: fsync the data before the rename and the folder after it (outputs);
+    cache files skip both, since a lost cache entry only costs a recomputation.
+    ``mode``: permission bits of the new file (None: ``mkstemp``'s 0600). Raises OSError.
+    """
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            if durable:
+                fh.flush()
+                os.fsync(fh.fileno())
+        if mode is not None:
+            os.chmod(tmp, mode)
+        os.replace(tmp, target)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    if durable:
+        _fsync_folder(target.parent)
+
+
 def atomic_write_bytes(path: str | Path, data: bytes) -> Path:
     """Write ``data`` to ``path`` atomically and return the file actually written.
 
@@ -27,28 +57,11 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> Path:
     """
     path = Path(path)
     target = _follow_links(path)
-    folder = target.parent
     try:
         mode = target.stat().st_mode & 0o7777 if target.exists() else 0o666 & ~_umask()
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+        replace_file(target, data, mode=mode)
     except OSError as exc:
         raise OutputError(f"cannot write: {exc.strerror or exc}", file=path) from None
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, mode)
-        os.replace(tmp, target)
-    except BaseException as exc:  # also KeyboardInterrupt: never leave the temporary file
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        if isinstance(exc, OSError):
-            raise OutputError(f"cannot write: {exc.strerror or exc}", file=path) from None
-        raise
-    _fsync_folder(folder)
     return target
 
 

@@ -14,9 +14,10 @@ import hashlib
 import json
 import os
 import stat
-import tempfile
 import time
 from pathlib import Path
+
+from urdfinertia.atomic import replace_file
 
 #: Files modified this recently (seconds) are hashed every time.
 RACY_SECONDS = 2.0
@@ -98,18 +99,7 @@ class FileDigests:
         data = json.dumps({"format": MEMO_FORMAT, "files": self._memo}).encode()
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".tmp",
-                                       dir=self.path.parent)
+            replace_file(self.path, data, durable=False)
         except OSError:
-            return
-        try:
-            with os.fdopen(fd, "wb") as fh:
-                fh.write(data)
-            os.replace(tmp, self.path)
-        except OSError:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
             return
         self._dirty = False

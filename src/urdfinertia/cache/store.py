@@ -23,12 +23,12 @@ import dataclasses
 import hashlib
 import json
 import os
-import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from urdfinertia.atomic import replace_file
 from urdfinertia.cache.digests import FileDigests, content_digest, file_digest
 from urdfinertia.cache.version import code_digest
 from urdfinertia.errors import MeshError
@@ -168,17 +168,7 @@ class SolidsCache:
             return
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp", dir=path.parent)
-            try:
-                with os.fdopen(fd, "wb") as fh:
-                    fh.write(data)
-                os.replace(tmp, path)
-            except BaseException:
-                try:
-                    os.unlink(tmp)
-                except OSError:
-                    pass
-                raise
+            replace_file(path, data, durable=False)
         except OSError as exc:
             self.enabled = False
             self.warnings.append(f"cache disabled: cannot write {self.root}: "
