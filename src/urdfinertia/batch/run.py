@@ -23,10 +23,9 @@ from urdfinertia.atomic import atomic_write_bytes, write_in_place
 from urdfinertia.batch.executors import open_executor, submit
 from urdfinertia.batch.file_cache import CachedResult, FileResults
 from urdfinertia.batch.inputs import FileJob
-from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache, file_entry_key
+from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache
 from urdfinertia.errors import MeshError, OutputError, UrdfInertiaError
 from urdfinertia.link.options import FixOptions
-from urdfinertia.mesh.limits import max_mesh_bytes
 from urdfinertia.timing import StageTimes
 
 if TYPE_CHECKING:
@@ -260,36 +259,22 @@ class _Run:
 
     def lookup_cache(self, path: Path) -> bool:
         """Fill ``self.meshes[path]`` from the cache; False when it must be computed."""
-        if self.cache is None or not self.cache.enabled:
+        if self.cache is None:
             return False
         with self.times.stage("cache"):
-            key = file_entry_key(path, max_mesh_bytes(self.options.max_faces),
-                                 self.cache.digests)
-            if key is None:
-                return False  # not a readable regular file within limits: the worker says so
+            key, found = self.cache.lookup_mesh(path, self.options.max_faces)
+        if key is not None:
             self.keys[path] = key
-            hit = self.cache.get(key)
-        if hit is None:
+        if found is None:
             return False
-        found, faces = hit
-        max_faces = self.options.max_faces
-        if faces > max_faces:
-            from urdfinertia.cache.library import too_many_faces
-
-            found = too_many_faces(path, faces, max_faces)
         self.meshes[path] = found
         return True
 
     def store(self, path: Path, outcome: MeshSolids | Exception, faces: int) -> None:
-        from urdfinertia.cache.library import cacheable
-
         self.meshes[path] = outcome
-        key = self.keys.get(path)
-        # faces > 0: the mesh was read, so an error came from the repair of its bytes
-        if (self.cache is not None and key is not None and faces > 0
-                and cacheable(outcome, path)):
+        if self.cache is not None:
             with self.times.stage("cache"):
-                self.cache.put(key, outcome, faces)
+                self.cache.store_mesh(self.keys.get(path), path, outcome, faces)
 
     def prepare(self, pool: cf.Executor, needs: Sequence[Sequence[Path]],
                 on_ready: Callable[[int], None]) -> None:

@@ -6,10 +6,10 @@ import copy
 from collections.abc import Mapping
 from pathlib import Path
 
-from urdfinertia.cache.store import SolidsCache, file_entry_key
+from urdfinertia.cache.store import SolidsCache, cacheable
 from urdfinertia.descriptions.paths import RealPaths, resolve_mesh_path
 from urdfinertia.errors import MeshError
-from urdfinertia.mesh.limits import DEFAULT_MAX_FACES, max_mesh_bytes
+from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
 from urdfinertia.mesh.read.load import TriangleMesh, load_mesh
 from urdfinertia.mesh.repair.pipeline import repair_mesh
 from urdfinertia.mesh.solids import MeshSolids, integrate_repaired
@@ -28,12 +28,6 @@ def integrate_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> MeshS
         return integrate_repaired(repaired)
 
 
-def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
-    """The error :func:`load_mesh` raises, for a cache hit over the limit."""
-    return MeshError(f"mesh {path} has {faces} faces, more than the limit "
-                     f"{max_faces} (raise it with --max-faces)")
-
-
 def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
                      cache: SolidsCache | None = None,
                      timer: StageTimes | None = None) -> MeshSolids:
@@ -47,37 +41,25 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
     """
     timer = timer if timer is not None else StageTimes()
     key = None
-    if cache is not None and cache.enabled:
+    if cache is not None:
         with timer.stage("cache"):
-            key = file_entry_key(path, max_mesh_bytes(max_faces), cache.digests)
-            hit = cache.get(key) if key is not None else None
+            key, hit = cache.lookup_mesh(path, max_faces)
+        if isinstance(hit, MeshError):
+            raise MeshError(hit.cause)
         if hit is not None:
-            found, faces = hit
-            if faces > max_faces:
-                raise too_many_faces(path, faces, max_faces)
-            if isinstance(found, MeshError):
-                raise MeshError(found.cause)
-            return found
+            return hit
     with timer.stage("mesh read"):
         mesh = load_mesh(path, max_faces)
     try:
         found: MeshSolids | MeshError = integrate_mesh(mesh, timer)
     except MeshError as exc:
         found = exc
-    if cache is not None and key is not None and cacheable(found, path):
+    if cache is not None:
         with timer.stage("cache"):
-            cache.put(key, found, len(mesh.faces))
+            cache.store_mesh(key, path, found, len(mesh.faces))
     if isinstance(found, MeshError):
         raise found
     return found
-
-
-def cacheable(outcome: MeshSolids | Exception, path: Path) -> bool:
-    """Solids, or a repair error that depends on the bytes only (names no path)."""
-    if isinstance(outcome, MeshSolids):
-        return True
-    return (isinstance(outcome, MeshError) and outcome.file is None
-            and str(path) not in outcome.cause and path.name not in outcome.cause)
 
 
 def fresh(exc: Exception) -> Exception:

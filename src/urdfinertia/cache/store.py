@@ -32,6 +32,7 @@ from urdfinertia.atomic import replace_file
 from urdfinertia.cache.digests import FileDigests, content_digest, file_digest
 from urdfinertia.cache.version import code_digest
 from urdfinertia.errors import MeshError
+from urdfinertia.mesh.limits import max_mesh_bytes
 
 if TYPE_CHECKING:
     import numpy as np
@@ -61,6 +62,20 @@ MAX_ENTRY_BYTES = 16 * 1024 * 1024
 _ARRAYS = ("volume", "first", "second")
 T = TypeVar("T")
 _ERROR_KEYS = {"format", "key", "faces", "solid_fields", "mesh_fields", "error"}
+
+
+def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
+    """The error :func:`load_mesh` raises, for a cache hit over the limit."""
+    return MeshError(f"mesh {path} has {faces} faces, more than the limit "
+                     f"{max_faces} (raise it with --max-faces)")
+
+
+def cacheable(outcome: object, path: Path) -> bool:
+    """Solids, or a repair error that depends on the bytes only (names no path)."""
+    if isinstance(outcome, MeshError):
+        return (outcome.file is None and str(path) not in outcome.cause
+                and path.name not in outcome.cause)
+    return not isinstance(outcome, Exception)
 
 
 def default_cache_dir() -> Path:
@@ -134,6 +149,37 @@ class SolidsCache:
         except (TypeError, ValueError):
             return  # a field this format cannot hold: simply not cached
         self.write(self.path(key), data)
+
+    # --- the one lookup protocol of mesh solids (MeshLibrary and batch runs both use it) --
+    def lookup_mesh(self, path: Path, max_faces: int,
+                    ) -> tuple[str | None, MeshSolids | MeshError | None]:
+        """``(key, outcome)`` of the mesh file at ``path``; outcome None on a miss.
+
+        The key is None when the file is not a readable regular file within the size
+        limit (the reader then says why). A hit over ``max_faces`` is the reader's own
+        refusal: the cache never changes what is accepted.
+        """
+        if not self.enabled:
+            return None, None
+        key = file_entry_key(path, max_mesh_bytes(max_faces), self.digests)
+        if key is None:
+            return None, None
+        hit = self.get(key)
+        if hit is None:
+            return key, None
+        found, faces = hit
+        if faces > max_faces:
+            return key, too_many_faces(path, faces, max_faces)
+        return key, found
+
+    def store_mesh(self, key: str | None, path: Path, outcome: MeshSolids | Exception,
+                   faces: int) -> None:
+        """Keep ``outcome`` under ``key`` when it depends on the file's bytes alone.
+
+        ``faces`` > 0 says the mesh was read, so an error came from the repair of its bytes.
+        """
+        if key is not None and faces > 0 and cacheable(outcome, path):
+            self.put(key, outcome, faces)  # type: ignore[arg-type]  # cacheable narrows
 
     def read(self, path: Path, decode: Callable[[bytes], T | None],
              count: bool = True) -> T | None:
