@@ -1,4 +1,4 @@
-"""report_scene.py: zero-configuration poses, equivalent-inertia boxes, display meshes."""
+"""render/scene.py: equivalent-inertia boxes and display meshes."""
 
 from pathlib import Path
 
@@ -8,17 +8,15 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from urdfinertia.cache.library import MeshLibrary
-from urdfinertia.descriptions.model import Inertial, Joint, Link, Origin, Robot
+from urdfinertia.descriptions.model import Inertial, Origin
 from urdfinertia.descriptions.urdf.read import robot_from_bytes
 from urdfinertia.inertia import primitives
-from urdfinertia.inertia.rotation import pose_matrix
 from urdfinertia.render.scene import (
     box_lengths,
     build_scene,
     decimate,
     equivalent_box,
     existing_mass_properties,
-    zero_configuration_poses,
 )
 
 
@@ -132,43 +130,6 @@ def test_existing_tensor_breaking_the_triangle_inequality_still_gets_a_flagged_b
     mp, _ = existing_mass_properties(inertial(diag=(0.1, 0.1, 0.5)))
     assert mp is not None
     assert equivalent_box(mp, np.eye(4), "l", "existing").clipped
-
-
-# --- kinematics ---------------------------------------------------------------------------
-def chain_robot(origins) -> Robot:
-    links = tuple(Link(f"l{i}") for i in range(len(origins) + 1))
-    joints = tuple(Joint(f"j{i}", "revolute", f"l{i}", f"l{i + 1}", o)
-                   for i, o in enumerate(origins))
-    return Robot("chain", links, joints)
-
-
-def test_zero_configuration_is_the_product_of_joint_origins(rng):
-    origins = [Origin(tuple(rng.normal(size=3)), tuple(rng.uniform(-3, 3, 3)))
-               for _ in range(4)]
-    poses, notes = zero_configuration_poses(chain_robot(origins))
-    assert notes == ()
-    expected = np.eye(4)
-    np.testing.assert_array_equal(poses["l0"], np.eye(4))
-    for i, o in enumerate(origins):
-        expected = expected @ pose_matrix(o.xyz, o.rpy)
-        np.testing.assert_allclose(poses[f"l{i + 1}"], expected, atol=1e-12)
-
-
-def test_joints_listed_before_their_parents_still_chain():
-    origins = [Origin((1.0, 0.0, 0.0)), Origin((0.0, 2.0, 0.0))]
-    robot = chain_robot(origins)
-    robot = Robot("r", robot.links, robot.joints[::-1])
-    poses, _ = zero_configuration_poses(robot)
-    np.testing.assert_allclose(poses["l2"][:3, 3], [1.0, 2.0, 0.0])
-
-
-def test_odd_trees_are_noted_not_fatal():
-    links = (Link("a"), Link("b"), Link("c"))
-    joints = (Joint("j", "fixed", "a", "nowhere"),)
-    poses, notes = zero_configuration_poses(Robot("r", links, joints))
-    assert set(poses) == {"a", "b", "c"}
-    assert any("unknown link" in n for n in notes)
-    assert any("root links" in n for n in notes)
 
 
 # --- display meshes -----------------------------------------------------------------------

@@ -13,13 +13,13 @@ Three things, all in the world frame of the robot's root link(s):
 
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.descriptions.kinematics import zero_configuration_poses
 from urdfinertia.descriptions.model import (
     Box,
     Capsule,
@@ -41,47 +41,6 @@ DEFAULT_VIEW_FACES = 150_000
 #: No displayed mesh is decimated below this many faces, whatever the budget.
 MIN_FACES_PER_MESH = 200
 VIEW_MODES = ("visual", "collision")
-
-
-# --- kinematics -------------------------------------------------------------------------
-def zero_configuration_poses(robot: Robot) -> tuple[dict[str, np.ndarray], tuple[str, ...]]:
-    """(4, 4) pose of every link in the root frame with every joint at 0.
-
-    Returns the poses and notes on anything odd (several roots, links no joint reaches,
-    joints naming unknown links). Several roots all sit at the identity; so does a link
-    that no chain from a root reaches (a kinematic loop).
-    """
-    names = [link.name for link in robot.links]
-    known = set(names)
-    notes: list[str] = []
-    children: dict[str, list] = {name: [] for name in names}
-    has_parent: set[str] = set()
-    for joint in robot.joints:
-        if joint.parent not in known or joint.child not in known:
-            notes.append(f"joint '{joint.name}' names an unknown link: not drawn")
-            continue
-        children[joint.parent].append(joint)
-        has_parent.add(joint.child)
-    roots = [name for name in names if name not in has_parent]
-    if len(roots) > 1:
-        notes.append(f"{len(roots)} root links ({', '.join(roots[:5])}"
-                     f"{', ...' if len(roots) > 5 else ''}): all drawn at the origin")
-    poses: dict[str, np.ndarray] = {root: np.eye(4) for root in roots}
-    queue = deque(roots)
-    while queue:
-        parent = queue.popleft()
-        for joint in children[parent]:
-            if joint.child in poses:
-                continue
-            poses[joint.child] = poses[parent] @ joint.origin.matrix()
-            queue.append(joint.child)
-    missing = [name for name in names if name not in poses]
-    if missing:
-        notes.append(f"{len(missing)} link(s) not reached from a root (kinematic loop?): "
-                     "drawn at the origin")
-        for name in missing:
-            poses[name] = np.eye(4)
-    return poses, tuple(notes)
 
 
 # --- equivalent-inertia boxes -----------------------------------------------------------
