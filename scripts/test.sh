@@ -4,6 +4,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup_venv.sh
 .venv/bin/ruff check src tests scripts
+# the layout's rules ([tool.importlinter] in pyproject.toml) and the type hints
+.venv/bin/lint-imports --no-cache
+.venv/bin/mypy
 # the report's browser tests need Debian's chromium + chromedriver; installing them here,
 # once, avoids two test workers racing for apt's lock (the tests skip only if this fails)
 bash scripts/install_chromium.sh || echo "warning: chromium could not be installed" >&2

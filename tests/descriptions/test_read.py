@@ -9,8 +9,9 @@ from lxml import etree
 
 from urdfinertia.descriptions.model import Box, Capsule, Mesh
 from urdfinertia.descriptions.urdf.read import MAX_MAGNITUDE, parse_xml, read_urdf, robot_from_bytes
-from urdfinertia.descriptions.xml import hostile_xml_cause, hostile_xml_stream_cause, safe_parser
+from urdfinertia.descriptions.xml import safe_parser
 from urdfinertia.errors import UrdfError
+from urdfinertia.hostile import hostile_xml_cause, hostile_xml_stream_cause
 
 
 def robot(body: str, inertial: str = ""):

@@ -29,7 +29,8 @@ def point_mass_inertia(mass: float, offset: ArrayLike) -> np.ndarray:
     This is the Huygens-Steiner term of eq. 43.
     """
     r = np.asarray(offset, dtype=np.float64)
-    return mass * (np.dot(r, r) * _EYE - np.outer(r, r))
+    term: np.ndarray = mass * (np.dot(r, r) * _EYE - np.outer(r, r))
+    return term
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,9 +154,10 @@ class MassProperties:
 
     def about(self, point: ArrayLike) -> np.ndarray:
         """Inertia tensor about ``point`` along F's axes (Huygens-Steiner, eq. 43)."""
-        return self.inertia + point_mass_inertia(
+        moved: np.ndarray = self.inertia + point_mass_inertia(
             self.mass, self.com - np.asarray(point, dtype=np.float64)
         )
+        return moved
 
     # --- combination ---------------------------------------------------------------
     def __add__(self, other: MassProperties) -> MassProperties:
@@ -209,7 +211,8 @@ def combine(bodies: Iterable[MassProperties]) -> MassProperties:
         raise ValueError("bodies sum to zero mass")
     coms = np.array([b.com for b in items])
     com = masses @ coms / total
-    inertia = sum(b.about(com) for b in items)
+    # the same left-to-right sum as Python's sum() from 0: 0.0 + x is x, bit for bit
+    inertia: np.ndarray = sum((b.about(com) for b in items), np.zeros((3, 3)))
     return MassProperties(total, com, inertia)
 
 

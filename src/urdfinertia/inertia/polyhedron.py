@@ -46,7 +46,8 @@ def cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def face_volumes(triangles: np.ndarray) -> np.ndarray:
     """(n,) signed volume of each face's tetrahedron with the origin."""
     tri = np.asarray(triangles, dtype=np.float64)
-    return np.einsum("ij,ij->i", tri[:, 0], cross_rows(tri[:, 1], tri[:, 2])) / 6.0
+    volumes: np.ndarray = np.einsum("ij,ij->i", tri[:, 0], cross_rows(tri[:, 1], tri[:, 2]))
+    return volumes / 6.0
 
 
 def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.ndarray, np.ndarray]:

@@ -45,7 +45,8 @@ def rpy_matrix(rpy: ArrayLike) -> np.ndarray:
         so a point's coordinates map as ``r_parent = A_o @ r_child`` (eq. 23).
     """
     roll, pitch, yaw = _vector3(rpy, "rpy")
-    return rot_z(yaw) @ rot_y(pitch) @ rot_x(roll)
+    matrix: np.ndarray = rot_z(yaw) @ rot_y(pitch) @ rot_x(roll)
+    return matrix
 
 
 def pose_matrix(xyz: ArrayLike, rpy: ArrayLike) -> np.ndarray:

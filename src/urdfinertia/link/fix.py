@@ -18,13 +18,13 @@ if TYPE_CHECKING:
     from urdfinertia.cache.library import MeshLibrary
     from urdfinertia.descriptions.model import Link, Robot
     from urdfinertia.link.assemble import Assembly
-    from urdfinertia.link.parts import Part
+    from urdfinertia.link.parts import MeshSource, Part
 
 # The computing modules (numpy, lxml, the mesh readers) are imported by the functions that
 # use them: a warm batch run needs only FixOptions and reuses every result.
 
 
-def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir: Path,
+def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: Path,
                  ) -> LinkResult:
     """Recompute one link, or report why it stays untouched."""
     from urdfinertia.link.assemble import assemble

@@ -12,10 +12,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.model import (
     Box,
     Capsule,
@@ -29,6 +29,21 @@ from urdfinertia.descriptions.model import (
 from urdfinertia.errors import MeshError, UrdfInertiaError
 from urdfinertia.inertia import primitives
 from urdfinertia.inertia.massprops import MassProperties
+
+if TYPE_CHECKING:
+    from urdfinertia.mesh.solids import MeshSolids
+
+
+class MeshSource(Protocol):
+    """How parts reach meshes: a URI to a file, a file to its solids (each once per run).
+
+    :class:`urdfinertia.cache.library.MeshLibrary` is the implementation; the parts
+    step needs nothing more of it (no cache, no batch state).
+    """
+
+    def resolve(self, uri: str, urdf_dir: Path) -> Path: ...
+
+    def solids(self, path: Path) -> MeshSolids: ...
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,7 +88,7 @@ class Part:
         return self.unit.with_mass(mass).transformed(self.pose)
 
 
-def shape_solids(shape: Shape, meshes: MeshLibrary, urdf_dir: Path,
+def shape_solids(shape: Shape, meshes: MeshSource, urdf_dir: Path,
                  ) -> list[tuple[MassProperties, str, tuple[str, ...]]]:
     """Unit-density mass properties of a shape in its geometry frame, one per body."""
     if isinstance(shape, Box):
@@ -105,7 +120,7 @@ def shape_solids(shape: Shape, meshes: MeshLibrary, urdf_dir: Path,
     raise TypeError(f"unknown shape {shape!r}")
 
 
-def geometry_parts(ref: GeometryRef, meshes: MeshLibrary, urdf_dir: Path) -> list[Part]:
+def geometry_parts(ref: GeometryRef, meshes: MeshSource, urdf_dir: Path) -> list[Part]:
     """The parts of one ``<collision>``/``<visual>``: one per primitive or mesh body."""
     try:
         bodies = shape_solids(ref.shape, meshes, urdf_dir)

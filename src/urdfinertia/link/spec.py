@@ -23,7 +23,6 @@ from typing import Any
 
 import numpy as np
 
-from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.model import (
     Box,
     Capsule,
@@ -38,7 +37,7 @@ from urdfinertia.descriptions.model import (
 )
 from urdfinertia.errors import MeshError, SpecError
 from urdfinertia.link.materials import MATERIALS, material_density, material_key
-from urdfinertia.link.parts import Part, shape_solids
+from urdfinertia.link.parts import MeshSource, Part, shape_solids
 
 #: Relative mismatch tolerated between a pinned link mass and fully known part masses.
 PINNED_MASS_RTOL = 1e-9
@@ -122,7 +121,7 @@ class LinkSpec:
                 if isinstance(p.source, GeometrySelector):
                     p.source.find(link, f"{p.key}.{p.source.role}", self.path)
 
-    def parts(self, link: Link, meshes: MeshLibrary, urdf_dir: Path,
+    def parts(self, link: Link, meshes: MeshSource, urdf_dir: Path,
               ) -> tuple[list[Part], float | None]:
         """The link's parts (unit density, own frame, pose in the link frame) and pinned mass.
 
@@ -138,7 +137,7 @@ class LinkSpec:
         return out, self.mass
 
     def _part(self, p: PartSpec, element: ElementSpec, element_pose: np.ndarray, link: Link,
-              meshes: MeshLibrary, urdf_dir: Path) -> list[Part]:
+              meshes: MeshSource, urdf_dir: Path) -> list[Part]:
         label = f"{element.name}/{p.name}"
         if isinstance(p.source, GeometrySelector):
             ref = p.source.find(link, f"{p.key}.{p.source.role}", self.path)

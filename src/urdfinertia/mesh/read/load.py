@@ -4,9 +4,11 @@ A scene's node transforms are applied and every piece is concatenated into one a
 splitting into bodies happens later (:mod:`urdfinertia.mesh.solids`). COLLADA ``<unit meter>``
 is honoured, as RViz and Gazebo do.
 
-STL, OBJ and COLLADA files are read by this package's own readers (:mod:`stl_read`,
-:mod:`obj_read`, :mod:`dae_read`), which give trimesh's arrays exactly; trimesh is imported
-only for the other formats and for the rare file those readers leave to it.
+The readers form a registry by suffix (``_NATIVE``): STL by this package's own reader
+(:mod:`.stl`: trimesh's arrays, less memory on ASCII files), OBJ and COLLADA by trimesh's
+own per-format loaders called directly (:mod:`.obj`, :mod:`.dae`); PLY, GLB/glTF and OFF,
+and the rare STL the native reader leaves aside, through ``trimesh.load``. Every file is
+size-checked, face-counted and (COLLADA) scanned for hostile XML before a parser runs.
 """
 
 from __future__ import annotations
@@ -22,10 +24,10 @@ from typing import BinaryIO
 
 import numpy as np
 
-from urdfinertia.descriptions.xml import hostile_xml_stream_cause
 from urdfinertia.errors import MeshError
+from urdfinertia.hostile import hostile_xml_stream_cause
 from urdfinertia.mesh.limits import BYTES_PER_FACE, DEFAULT_MAX_FACES, max_mesh_bytes
-from urdfinertia.mesh.read.common import Piece, TooManyFaces
+from urdfinertia.mesh.read.common import NeedsTrimesh, Piece, TooManyFaces
 from urdfinertia.mesh.read.dae import read_dae
 from urdfinertia.mesh.read.obj import read_obj
 from urdfinertia.mesh.read.stl import read_stl
@@ -135,11 +137,10 @@ def _too_large(path: Path, size: int, limit: int, max_faces: int) -> MeshError:
 
 def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
                    ) -> list[Piece] | None:
-    """The file's pieces from this package's reader, or None to read it with trimesh.
+    """The file's pieces from its format's reader; None to read it with ``trimesh.load``.
 
-    Any failure of a native reader hands the file to trimesh: the reader refused a
-    feature it does not reproduce, or the bytes are malformed and trimesh's own message
-    (and behaviour) is the reference.
+    The STL reader hands what it does not reproduce (several solids, ...) to trimesh;
+    the OBJ and COLLADA readers are trimesh's own loaders, whose failure is final.
     """
     reader = _NATIVE[suffix]
     try:
@@ -149,21 +150,23 @@ def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
     except MemoryError:
         raise MeshError(f"cannot read mesh {path}: out of memory (lower --max-faces)"
                         ) from None
-    except Exception:
+    except RecursionError:
+        raise MeshError(f"cannot read mesh {path}: nested too deeply") from None
+    except NeedsTrimesh:
         return None
+    except Exception as exc:  # trimesh and pycollada raise many types for corrupt bytes
+        if suffix == ".stl":
+            return None
+        raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
 
 
 def _read_stl(data: bytes, max_faces: int) -> list[Piece]:
     return read_stl(data)
 
 
-def _read_obj(data: bytes, max_faces: int) -> list[Piece]:
-    return read_obj(data)
-
-
 #: Formats read without trimesh: reader(bytes, max_faces) -> pieces.
 _NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
-    ".stl": _read_stl, ".obj": _read_obj, ".dae": read_dae}
+    ".stl": _read_stl, ".obj": read_obj, ".dae": read_dae}
 
 
 def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
