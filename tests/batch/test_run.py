@@ -133,7 +133,7 @@ def threads(jobs, dask):
 
 def test_each_distinct_mesh_is_read_once_with_workers(tree, tmp_path, monkeypatch):
     reads: list[str] = []
-    real = meshlib.load_mesh  # the worker task (batch.mesh_task) reads through it too
+    real = meshlib.load_mesh  # the worker task (batch.tasks.mesh_task) reads through it too
     monkeypatch.setattr(meshlib, "load_mesh", lambda p, m: reads.append(p) or real(p, m))
     monkeypatch.setattr(batch, "open_executor", threads)  # same process: reads are seen
     report = run_batch(collect_jobs([tree], tmp_path / "out"), FixOptions(),

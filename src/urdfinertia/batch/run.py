@@ -1,6 +1,7 @@
 """Fix many URDFs in one run: inputs, worker processes or a Dask cluster, one outcome each.
 
-The unit of work is one file (:func:`fix_file_task`, which calls :func:`fix.fix_robot`).
+The unit of work is one file (:func:`.tasks.fix_file_task`, which calls
+:func:`urdfinertia.link.fix.fix_robot`).
 With workers, each distinct mesh file is first read and integrated exactly once (largest
 first, results from the persistent cache when it has them), then every URDF is fixed by a
 worker with its meshes' results handed over. The parent process alone reads and writes the
@@ -13,9 +14,8 @@ from __future__ import annotations
 import concurrent.futures as cf
 import dataclasses
 import hashlib
-import time
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -23,6 +23,14 @@ from urdfinertia.atomic import atomic_write_bytes, write_in_place
 from urdfinertia.batch.executors import open_executor, submit
 from urdfinertia.batch.file_cache import CachedResult, FileResults
 from urdfinertia.batch.inputs import FileJob
+from urdfinertia.batch.tasks import (
+    FileOutcome,
+    fix_file_task,
+    fix_with_library,
+    load_compute_modules,
+    mesh_task,
+    referenced_meshes,
+)
 from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache
 from urdfinertia.errors import MeshError, OutputError, UrdfInertiaError
 from urdfinertia.link.options import FixOptions
@@ -38,16 +46,6 @@ if TYPE_CHECKING:
 #: Threads writing the outputs of a run whose every file came from the cache: each write
 #: waits for its fsyncs, which overlap in threads.
 WRITER_THREADS = 8
-
-
-def _load_compute_modules() -> None:
-    """Import what computes (numpy, lxml, the mesh readers) before any stage is timed, so
-    that stage times do not include imports."""
-    import urdfinertia.cache.library
-    import urdfinertia.descriptions.urdf.read
-    import urdfinertia.descriptions.urdf.write
-    import urdfinertia.link.assemble
-    import urdfinertia.link.parts  # noqa: F401
 
 
 #: progress(kind, done, total) with kind "meshes" or "files".
@@ -85,30 +83,6 @@ class BatchSettings:
 
 
 @dataclass(frozen=True, eq=False)
-class FileOutcome:
-    """What happened to one file. ``error`` is one line; ``document`` is the fixed URDF."""
-
-    source: Path
-    output: Path | None = None
-    robot: str = ""
-    links: int = 0
-    recomputed: int = 0
-    changed: bool = False
-    warnings: tuple[str, ...] = ()
-    document: bytes | None = None
-    details: dict | None = None
-    error: str | None = None
-    times: StageTimes = field(default_factory=StageTimes)
-    #: (uri, urdf folder, resolved path) of every mesh used, and a digest of the source
-    #: bytes the result was computed from: what a whole-file cache entry depends on.
-    trace: tuple[tuple[str, str, str], ...] = ()
-    source_digest: str = ""
-    #: The error depends on the source bytes and the traced meshes alone (its XML, a URI
-    #: that does not resolve, a mesh rejected for its bytes): it may be cached.
-    reusable_error: bool = False
-
-
-@dataclass(frozen=True, eq=False)
 class BatchReport:
     outcomes: tuple[FileOutcome, ...]
     times: StageTimes
@@ -121,121 +95,6 @@ class BatchReport:
     @property
     def failed(self) -> tuple[FileOutcome, ...]:
         return tuple(o for o in self.outcomes if o.error is not None)
-
-
-def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
-    """Resolved mesh files the geometry policy will read for ``source`` (best effort).
-
-    Problems are ignored here: the file's own task reports them in context.
-    """
-    from urdfinertia.descriptions.formats import read_description
-    from urdfinertia.descriptions.model import Mesh
-    from urdfinertia.descriptions.paths import resolve_mesh_path
-    from urdfinertia.link.options import select_geometry
-
-    try:
-        robot, _ = read_description(source)
-    except UrdfInertiaError:
-        return []
-    out: dict[Path, None] = {}
-    for link in robot.links:
-        _, refs = select_geometry(link, options.geometry)
-        for ref in refs:
-            if isinstance(ref.shape, Mesh):
-                try:
-                    path = resolve_mesh_path(ref.shape.filename, source.parent,
-                                             options.package_dirs)
-                except UrdfInertiaError:
-                    continue
-                out[path.resolve()] = None
-    return list(out)
-
-
-# ---------------------------------------------------------------------------- work units
-
-def mesh_task(path: str, max_faces: int) -> tuple[MeshSolids | Exception, int, StageTimes]:
-    """Read and integrate one mesh file: (solids or the error, face count, stage times).
-
-    The error is returned, not raised, so that each file using the mesh repeats it exactly
-    as a single-process run would.
-    """
-    from urdfinertia.cache import library as meshlib
-
-    _load_compute_modules()
-    times = StageTimes()
-    faces = 0
-    try:
-        with times.stage("mesh read"):
-            mesh = meshlib.load_mesh(path, max_faces)
-        faces = len(mesh.faces)
-        return meshlib.integrate_mesh(mesh, times), faces, times
-    except Exception as exc:  # noqa: BLE001 - reported per file by fix_with_library
-        return exc, faces, times
-
-
-def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
-                     details: bool = False) -> FileOutcome:
-    """Fix one file with ``meshes``; any failure becomes the outcome's one-line error."""
-    from urdfinertia.descriptions.formats import read_bytes, robot_from_bytes
-    from urdfinertia.link.fix import fix_robot
-
-    times = StageTimes()
-    before = dict(meshes.timer.seconds)
-    start = time.perf_counter()
-    meshes.trace = []
-    digest = ""
-    step = "read"
-    try:
-        with times.stage("xml"):
-            data = read_bytes(source)
-            digest = hashlib.blake2b(data, digest_size=20).hexdigest()
-            step = "parse"
-            robot = robot_from_bytes(data, source)
-        step = "fix"
-        result = fix_robot(robot, data, options, meshes)
-        step = "report"
-        info = None
-        if details:
-            from urdfinertia.render.results_json import fix_result_dict
-
-            info = fix_result_dict(result)
-        warnings = tuple(f"{r.name}: {w}" for r in result.links for w in r.warnings)
-        outcome = FileOutcome(
-            source, robot=robot.name, links=len(result.links),
-            recomputed=sum(r.status == "recomputed" for r in result.links),
-            changed=result.changed, warnings=warnings, document=result.output,
-            details=info, times=times, trace=tuple(meshes.trace), source_digest=digest)
-    except UrdfInertiaError as exc:
-        # reading can fail for the environment (permissions); parsing and fixing for the
-        # inputs, unless a mesh failed for more than its bytes (a read error, say)
-        reusable = step in ("parse", "fix") and meshes.failed_for_bytes_only(meshes.trace)
-        outcome = FileOutcome(source, error=str(exc), times=times, trace=tuple(meshes.trace),
-                              source_digest=digest, reusable_error=reusable)
-    except Exception as exc:  # noqa: BLE001 - a bug on one file must not end a batch
-        outcome = FileOutcome(source, error=f"{source}: internal error: "
-                                            f"{type(exc).__name__}: {exc}", times=times)
-    meshes.trace = None
-    mesh_time = 0.0
-    for name, seconds in meshes.timer.seconds.items():
-        delta = seconds - before.get(name, 0.0)
-        if delta > 0:
-            times.add(name, delta)
-            mesh_time += delta
-    times.add("assemble", time.perf_counter() - start - times.get("xml") - mesh_time)
-    return outcome
-
-
-def fix_file_task(source: str, options: FixOptions,
-                  seeds: Mapping[str, MeshSolids | Exception],
-                  details: bool = False) -> FileOutcome:
-    """The per-file unit of work run by a worker: ``seeds`` are its meshes' results."""
-    from urdfinertia.cache.library import MeshLibrary
-
-    _load_compute_modules()
-    meshes = MeshLibrary(options.package_dirs, options.max_faces)
-    for path, outcome in seeds.items():
-        meshes.seed(Path(path), outcome)
-    return fix_with_library(Path(source), options, meshes, details)
 
 
 class _Run:
@@ -461,7 +320,7 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
     ``finish``; returns the number of distinct meshes used."""
     from urdfinertia.cache.library import MeshLibrary
 
-    _load_compute_modules()
+    load_compute_modules()
     total = len(jobs)
     with open_executor(settings.jobs, settings.dask) as pool:
         if pool is None:

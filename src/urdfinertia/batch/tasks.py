@@ -1,0 +1,177 @@
+"""What one unit of a batch run does, in the parent or in a worker process.
+
+:func:`mesh_task` reads, repairs and integrates one mesh file; :func:`fix_file_task` fixes
+one URDF with its meshes' results handed over; :class:`FileOutcome` is what is reported of
+one file. These functions are pickled to worker processes and Dask workers, so they take
+and return plain values.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.link.options import FixOptions
+from urdfinertia.timing import StageTimes
+
+if TYPE_CHECKING:
+    from urdfinertia.cache.library import MeshLibrary
+    from urdfinertia.mesh.solids import MeshSolids
+
+
+def load_compute_modules() -> None:
+    """Import what computes (numpy, lxml, the mesh readers) before any stage is timed, so
+    that stage times do not include imports."""
+    import urdfinertia.cache.library
+    import urdfinertia.descriptions.urdf.read
+    import urdfinertia.descriptions.urdf.write
+    import urdfinertia.link.assemble
+    import urdfinertia.link.parts  # noqa: F401
+
+
+
+
+@dataclass(frozen=True, eq=False)
+class FileOutcome:
+    """What happened to one file. ``error`` is one line; ``document`` is the fixed URDF."""
+
+    source: Path
+    output: Path | None = None
+    robot: str = ""
+    links: int = 0
+    recomputed: int = 0
+    changed: bool = False
+    warnings: tuple[str, ...] = ()
+    document: bytes | None = None
+    details: dict | None = None
+    error: str | None = None
+    times: StageTimes = field(default_factory=StageTimes)
+    #: (uri, urdf folder, resolved path) of every mesh used, and a digest of the source
+    #: bytes the result was computed from: what a whole-file cache entry depends on.
+    trace: tuple[tuple[str, str, str], ...] = ()
+    source_digest: str = ""
+    #: The error depends on the source bytes and the traced meshes alone (its XML, a URI
+    #: that does not resolve, a mesh rejected for its bytes): it may be cached.
+    reusable_error: bool = False
+
+
+
+
+def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
+    """Resolved mesh files the geometry policy will read for ``source`` (best effort).
+
+    Problems are ignored here: the file's own task reports them in context.
+    """
+    from urdfinertia.descriptions.formats import read_description
+    from urdfinertia.descriptions.model import Mesh
+    from urdfinertia.descriptions.paths import resolve_mesh_path
+    from urdfinertia.link.options import select_geometry
+
+    try:
+        robot, _ = read_description(source)
+    except UrdfInertiaError:
+        return []
+    out: dict[Path, None] = {}
+    for link in robot.links:
+        _, refs = select_geometry(link, options.geometry)
+        for ref in refs:
+            if isinstance(ref.shape, Mesh):
+                try:
+                    path = resolve_mesh_path(ref.shape.filename, source.parent,
+                                             options.package_dirs)
+                except UrdfInertiaError:
+                    continue
+                out[path.resolve()] = None
+    return list(out)
+
+
+# ---------------------------------------------------------------------------- work units
+
+def mesh_task(path: str, max_faces: int) -> tuple[MeshSolids | Exception, int, StageTimes]:
+    """Read and integrate one mesh file: (solids or the error, face count, stage times).
+
+    The error is returned, not raised, so that each file using the mesh repeats it exactly
+    as a single-process run would.
+    """
+    from urdfinertia.cache import library as meshlib
+
+    load_compute_modules()
+    times = StageTimes()
+    faces = 0
+    try:
+        with times.stage("mesh read"):
+            mesh = meshlib.load_mesh(path, max_faces)
+        faces = len(mesh.faces)
+        return meshlib.integrate_mesh(mesh, times), faces, times
+    except Exception as exc:  # noqa: BLE001 - reported per file by fix_with_library
+        return exc, faces, times
+
+
+def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
+                     details: bool = False) -> FileOutcome:
+    """Fix one file with ``meshes``; any failure becomes the outcome's one-line error."""
+    from urdfinertia.descriptions.formats import read_bytes, robot_from_bytes
+    from urdfinertia.link.fix import fix_robot
+
+    times = StageTimes()
+    before = dict(meshes.timer.seconds)
+    start = time.perf_counter()
+    meshes.trace = []
+    digest = ""
+    step = "read"
+    try:
+        with times.stage("xml"):
+            data = read_bytes(source)
+            digest = hashlib.blake2b(data, digest_size=20).hexdigest()
+            step = "parse"
+            robot = robot_from_bytes(data, source)
+        step = "fix"
+        result = fix_robot(robot, data, options, meshes)
+        step = "report"
+        info = None
+        if details:
+            from urdfinertia.render.results_json import fix_result_dict
+
+            info = fix_result_dict(result)
+        warnings = tuple(f"{r.name}: {w}" for r in result.links for w in r.warnings)
+        outcome = FileOutcome(
+            source, robot=robot.name, links=len(result.links),
+            recomputed=sum(r.status == "recomputed" for r in result.links),
+            changed=result.changed, warnings=warnings, document=result.output,
+            details=info, times=times, trace=tuple(meshes.trace), source_digest=digest)
+    except UrdfInertiaError as exc:
+        # reading can fail for the environment (permissions); parsing and fixing for the
+        # inputs, unless a mesh failed for more than its bytes (a read error, say)
+        reusable = step in ("parse", "fix") and meshes.failed_for_bytes_only(meshes.trace)
+        outcome = FileOutcome(source, error=str(exc), times=times, trace=tuple(meshes.trace),
+                              source_digest=digest, reusable_error=reusable)
+    except Exception as exc:  # noqa: BLE001 - a bug on one file must not end a batch
+        outcome = FileOutcome(source, error=f"{source}: internal error: "
+                                            f"{type(exc).__name__}: {exc}", times=times)
+    meshes.trace = None
+    mesh_time = 0.0
+    for name, seconds in meshes.timer.seconds.items():
+        delta = seconds - before.get(name, 0.0)
+        if delta > 0:
+            times.add(name, delta)
+            mesh_time += delta
+    times.add("assemble", time.perf_counter() - start - times.get("xml") - mesh_time)
+    return outcome
+
+
+def fix_file_task(source: str, options: FixOptions,
+                  seeds: Mapping[str, MeshSolids | Exception],
+                  details: bool = False) -> FileOutcome:
+    """The per-file unit of work run by a worker: ``seeds`` are its meshes' results."""
+    from urdfinertia.cache.library import MeshLibrary
+
+    load_compute_modules()
+    meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    for path, outcome in seeds.items():
+        meshes.seed(Path(path), outcome)
+    return fix_with_library(Path(source), options, meshes, details)
