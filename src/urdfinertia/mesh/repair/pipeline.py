@@ -145,7 +145,7 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> Repaired
     stitched_faces, _, _ = cancel_duplicate_faces(stitched_faces)
     try:
         stitched = _close_up(stitch.vertices, stitched_faces, notes + [stitch.note()], timer,
-                             "stitched", stitch.uncertainty)
+                             stitch.provenance(), stitch.uncertainty)
     except MeshError:
         return _close_up(vertices, faces, notes, timer, welded)
     if not stitch.ambiguous:
@@ -209,12 +209,14 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str], timer: 
 def _with_origin(body: RepairedBody, origin: str, stitch_uncertainty: float) -> RepairedBody:
     """``body`` with its provenance, and the stitch's uncertainty added to its error."""
     capped = body.provenance  # set by _body: "" or the caps' summary
-    provenance = f"{origin}; {capped}" if capped else origin
     error, method = body.error_estimate, body.method
-    if origin == "stitched":
+    if origin.startswith("stitched"):
         method = f"stitched seams; {method}"
     if stitch_uncertainty > 0:
         error = (error or 0.0) + stitch_uncertainty / abs(_volume(body.vertices, body.faces))
+        if not capped:
+            origin = f"{origin}, volume within ~{100 * error:.2g}%"
+    provenance = f"{origin}; {capped}" if capped else origin
     return RepairedBody(body.vertices, body.faces, method, error, body.notes, provenance)
 
 

@@ -12,7 +12,8 @@ never touched, so no stitch crosses a real gap between two bodies.
 
 The stated uncertainty bounds the volume the stitch changed: a vertex moved by ``d``
 sweeps at most ``d`` times a third of the area of its faces; an inserted vertex adds the
-tetrahedron it forms with the split face.
+tetrahedron it forms with the split face. Which of two rims was the true surface is not
+in the file, so the slab between them (the cut's area times the gap) is added too.
 """
 
 from __future__ import annotations
@@ -63,6 +64,10 @@ class Stitch:
     boundary_after: int
     uncertainty: float
     ambiguous: bool
+
+    def provenance(self) -> str:
+        return (f"stitched {self.merged + self.inserted} boundary vertices "
+                f"(gaps up to {self.gap:.2g} m)")
 
     def note(self) -> str:
         what = []
@@ -158,6 +163,16 @@ def _merge_boundary_vertices(vertices: np.ndarray, faces: np.ndarray, edges: np.
     remap[ids] = rep[label]
     star = _star_areas(vertices, faces)
     swept = float(np.sum(shift * star[ids]) / 3.0)
+    # which rim was the true surface is unknown: the slab between the rims, the cut's
+    # area times the distance each vertex moved, bounded with a fan about the rims'
+    # centroid (a fan's area is at least that of any surface spanning the rims)
+    moved_by = np.zeros(len(vertices))
+    moved_by[ids] = np.where(moving, shift, 0.0)
+    rim = edges[(moved_by[edges[:, 0]] > 0) & (moved_by[edges[:, 1]] > 0)]
+    centre = vertices[ids[moving]].mean(axis=0)
+    fan = 0.5 * np.linalg.norm(np.cross(vertices[rim[:, 0]] - centre,
+                                        vertices[rim[:, 1]] - centre), axis=1)
+    swept += float(np.sum(fan * 0.5 * (moved_by[rim[:, 0]] + moved_by[rim[:, 1]])))
     new = remap[faces]
     keep = (new[:, 0] != new[:, 1]) & (new[:, 1] != new[:, 2]) & (new[:, 0] != new[:, 2])
     gap = float(2.0 * shift[moving].max())
