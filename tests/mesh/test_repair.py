@@ -228,11 +228,11 @@ def test_flat_piece_beside_a_solid_is_dropped_with_a_note() -> None:
 
 
 def test_probe_points_match_one_group_at_a_time(rng):
-    from urdfinertia.mesh.repair.pipeline import _probe_point, _probe_points
+    from urdfinertia.mesh.repair.nesting import _probe_points, probe_point
 
     tri = rng.normal(size=(40, 3, 3))
     tri[7] = tri[3]  # a tie: the first largest wins in both
     bounds = np.array([0, 1, 10, 25, 40])
     got = _probe_points(tri, bounds)
     for i in range(4):
-        np.testing.assert_array_equal(got[i], _probe_point(tri[bounds[i]:bounds[i + 1]]))
+        np.testing.assert_array_equal(got[i], probe_point(tri[bounds[i]:bounds[i + 1]]))

@@ -69,3 +69,27 @@ def duplicate(vertices: np.ndarray, faces: np.ndarray, offset: np.ndarray | None
     shift = np.zeros(3) if offset is None else np.asarray(offset, dtype=np.float64)
     v = np.concatenate([vertices, vertices + shift])
     return v, np.concatenate([faces, faces + len(vertices)])
+
+
+def seam(vertices: np.ndarray, faces: np.ndarray, gap: float, rng: np.random.Generator,
+         ) -> tuple[np.ndarray, np.ndarray]:
+    """Cut the surface in two along a plane and move one side by ``gap`` of the diagonal.
+
+    The plane runs through the centroid of the used vertices with a random normal; a face
+    belongs to the side its centroid is on, so the cut follows mesh edges. The faces on
+    one side get their own copies of their vertices, moved by ``gap`` times the
+    bounding-box diagonal in a random direction: no vertex is shared across the cut and
+    the two rims of the seam run alongside each other, as when a CAD exporter
+    tessellates faces independently.
+    """
+    used = np.unique(faces)
+    diagonal = float(np.linalg.norm(np.ptp(vertices[used], axis=0)))
+    normal, direction = rng.normal(size=(2, 3))
+    normal /= np.linalg.norm(normal)
+    direction /= np.linalg.norm(direction)
+    centroid = vertices[faces].mean(axis=1)
+    side = (centroid - vertices[used].mean(axis=0)) @ normal > 0
+    moved = vertices + gap * diagonal * direction
+    out = faces.copy()
+    out[side] += len(vertices)  # that side's faces use the moved copies only
+    return np.concatenate([vertices, moved]), out

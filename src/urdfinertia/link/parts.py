@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, NamedTuple, Protocol
 
 import numpy as np
 
@@ -67,6 +67,11 @@ class Part:
         kg/m^3 or kg when the user knows them; otherwise the link's policy decides.
     cavity : bool
         Removed material: contributes negative mass.
+    provenance : str
+        How a mesh body's surface was closed ("closed as given", "welded", "stitched",
+        holes capped ...); "closed form" for primitives.
+    uncertainty : float or None
+        Stated relative error of the volume (0 for exact methods).
     """
 
     name: str
@@ -78,6 +83,8 @@ class Part:
     mass: float | None = None
     cavity: bool = False
     notes: tuple[str, ...] = field(default=())
+    provenance: str = ""
+    uncertainty: float | None = None
 
     @property
     def volume(self) -> float:
@@ -88,21 +95,30 @@ class Part:
         return self.unit.with_mass(mass).transformed(self.pose)
 
 
-def shape_solids(shape: Shape, meshes: MeshSource, urdf_dir: Path,
-                 ) -> list[tuple[MassProperties, str, tuple[str, ...]]]:
+class BodySolid(NamedTuple):
+    """One body of a shape at unit density, and how it was obtained (see :class:`Part`)."""
+
+    unit: MassProperties
+    method: str
+    notes: tuple[str, ...] = ()
+    provenance: str = "closed form"
+    uncertainty: float | None = 0.0
+
+
+def shape_solids(shape: Shape, meshes: MeshSource, urdf_dir: Path) -> list[BodySolid]:
     """Unit-density mass properties of a shape in its geometry frame, one per body."""
     if isinstance(shape, Box):
-        return [(primitives.box(shape.size, 1.0), "closed form box", ())]
+        return [BodySolid(primitives.box(shape.size, 1.0), "closed form box")]
     if isinstance(shape, Cylinder):
-        return [(primitives.cylinder(shape.radius, shape.length, 1.0),
-                 "closed form cylinder", ())]
+        return [BodySolid(primitives.cylinder(shape.radius, shape.length, 1.0),
+                          "closed form cylinder")]
     if isinstance(shape, Sphere):
-        return [(primitives.sphere(shape.radius, 1.0), "closed form sphere", ())]
+        return [BodySolid(primitives.sphere(shape.radius, 1.0), "closed form sphere")]
     if isinstance(shape, Capsule):
-        return [(primitives.capsule(shape.radius, shape.length, 1.0),
-                 "closed form capsule", ())]
+        return [BodySolid(primitives.capsule(shape.radius, shape.length, 1.0),
+                          "closed form capsule")]
     if isinstance(shape, Ellipsoid):
-        return [(primitives.ellipsoid(shape.radii, 1.0), "closed form ellipsoid", ())]
+        return [BodySolid(primitives.ellipsoid(shape.radii, 1.0), "closed form ellipsoid")]
     if isinstance(shape, Mesh):
         path = meshes.resolve(shape.filename, urdf_dir)
         found = meshes.solids(path).scaled(shape.scale)
@@ -115,7 +131,8 @@ def shape_solids(shape: Shape, meshes: MeshSource, urdf_dir: Path,
             except ValueError as exc:
                 raise MeshError(f"mesh {shape.filename!r} gives no valid solid ({solid.method}): "
                                 f"{exc}") from None
-            out.append((unit, solid.method, notes))
+            out.append(BodySolid(unit, solid.method, notes, solid.provenance,
+                                 solid.error_estimate))
         return out
     raise TypeError(f"unknown shape {shape!r}")
 
@@ -128,18 +145,18 @@ def geometry_parts(ref: GeometryRef, meshes: MeshSource, urdf_dir: Path) -> list
         raise exc.with_context(line=ref.line) from None
     pose = ref.origin.matrix()
     parts = []
-    for i, (unit, method, notes) in enumerate(bodies):
+    for i, body in enumerate(bodies):
         name = ref.label if len(bodies) == 1 else f"{ref.label} body {i + 1}"
-        parts.append(Part(name=name, element=ref.label, unit=unit, pose=pose, method=method,
-                          density=ref.density, mass=_share(ref.mass, unit, bodies),
-                          notes=notes))
+        parts.append(Part(name=name, element=ref.label, unit=body.unit, pose=pose,
+                          method=body.method, density=ref.density,
+                          mass=_share(ref.mass, body.unit, bodies), notes=body.notes,
+                          provenance=body.provenance, uncertainty=body.uncertainty))
     return parts
 
 
-def _share(mass: float | None, unit: MassProperties,
-           bodies: list[tuple[MassProperties, str, tuple[str, ...]]]) -> float | None:
+def _share(mass: float | None, unit: MassProperties, bodies: list[BodySolid]) -> float | None:
     """An element's stated mass split over its bodies by volume (None: not stated)."""
     if mass is None:
         return None
-    total = sum(b[0].mass for b in bodies)
+    total = sum(b.unit.mass for b in bodies)
     return mass * unit.mass / total if total > 0 else None

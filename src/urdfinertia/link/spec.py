@@ -151,16 +151,17 @@ class LinkSpec:
                     raise
                 raise SpecError(f"{p.key}.mesh: {exc.cause}", file=self.path) from None
             pose, where = element_pose @ p.origin.matrix(), ""
-        volume = sum(unit.mass for unit, _, _ in bodies)
+        volume = sum(body.unit.mass for body in bodies)
         if not volume > 0:
             raise SpecError(f"{p.key}: part has no volume", file=self.path)
         parts = []
-        for i, (unit, method, notes) in enumerate(bodies):
+        for i, body in enumerate(bodies):
             name = label if len(bodies) == 1 else f"{label} body {i + 1}"
-            mass = None if p.mass is None else p.mass * unit.mass / volume
-            parts.append(Part(name=name, element=element.name, unit=unit, pose=pose,
-                              method=method + where, density=p.density, mass=mass,
-                              cavity=p.cavity, notes=notes))
+            mass = None if p.mass is None else p.mass * body.unit.mass / volume
+            parts.append(Part(name=name, element=element.name, unit=body.unit, pose=pose,
+                              method=body.method + where, density=p.density, mass=mass,
+                              cavity=p.cavity, notes=body.notes,
+                              provenance=body.provenance, uncertainty=body.uncertainty))
         return parts
 
     def _check_masses(self, parts: list[Part]) -> None:

@@ -43,6 +43,9 @@ class Solid:
         Estimated relative error of the volume where the method has one (0 for exact).
     notes : tuple of str
         What was repaired on this body.
+    provenance : str
+        How the surface was closed: "closed as given", "welded" or "stitched", then
+        any holes capped and their estimate (see ``RepairedBody.provenance``).
     """
 
     volume: float
@@ -51,6 +54,7 @@ class Solid:
     method: str
     error_estimate: float | None = None
     notes: tuple[str, ...] = ()
+    provenance: str = ""
 
     def scaled(self, scale: ArrayLike) -> Solid:
         """The solid under ``<mesh scale="sx sy sz">``; mirroring keeps volume positive."""
@@ -63,6 +67,7 @@ class Solid:
             self.method,
             self.error_estimate,
             self.notes,
+            self.provenance,
         )
 
     def mass_properties(self, density: float) -> MassProperties:
@@ -95,7 +100,7 @@ def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
         volume, first, second = solid_integrals(body.vertices, body.faces)
         if np.isfinite(volume) and volume > 0:
             candidates.append(Solid(volume, first, second, body.method, body.error_estimate,
-                                    body.notes))
+                                    body.notes, body.provenance))
     if not candidates:
         raise MeshError("mesh encloses no volume")
     notes = repaired.notes

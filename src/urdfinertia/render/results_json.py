@@ -36,7 +36,8 @@ def link_dict(r: LinkResult) -> dict[str, Any]:
         out["parts"] = [
             {"name": pr.part.name, "element": pr.part.element, "method": pr.part.method,
              "volume": pr.part.volume, "density": pr.density, "cavity": pr.part.cavity,
-             "notes": list(pr.part.notes), **mass_properties_dict(pr.mass_properties)}
+             "notes": list(pr.part.notes), "provenance": pr.part.provenance,
+             "uncertainty": pr.part.uncertainty, **mass_properties_dict(pr.mass_properties)}
             for pr in r.assembly.parts
         ]
     return out

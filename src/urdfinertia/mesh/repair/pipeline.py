@@ -40,6 +40,8 @@ from urdfinertia.mesh.repair.graph import (
     weld_vertices,
 )
 from urdfinertia.mesh.repair.holes import HoleCaps, cap_with_fans, close_holes
+from urdfinertia.mesh.repair.nesting import nest_signs, probe_point
+from urdfinertia.mesh.repair.stitch import stitch_seams
 from urdfinertia.mesh.repair.winding import closed_winding_numbers
 from urdfinertia.timing import StageTimes
 
@@ -67,6 +69,10 @@ class RepairedBody:
         Estimated relative error of the volume, where the method has one.
     notes : tuple of str
         What was repaired on this body.
+    provenance : str
+        How its surface was closed, in one phrase: "closed as given", "welded",
+        "stitched", each followed by "; capped N holes (volume within ~x%)" where holes
+        were capped.
     """
 
     vertices: np.ndarray
@@ -74,6 +80,7 @@ class RepairedBody:
     method: str
     error_estimate: float | None = None
     notes: tuple[str, ...] = ()
+    provenance: str = ""
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,6 +136,44 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> Repaired
         notes.append(f"removed {cancelled} pairs of coincident opposite triangles")
     if len(faces) == 0:
         raise MeshError("mesh has no non-degenerate triangles: it encloses no volume")
+    timer = timer if timer is not None else StageTimes()
+    welded = "welded" if notes else "closed as given"
+    stitch = stitch_seams(vertices, faces, size)
+    if stitch is None:
+        return _close_up(vertices, faces, notes, timer, welded)
+    stitched_faces = drop_degenerate(stitch.vertices, stitch.faces, (1e-12 * size) ** 2)
+    stitched_faces, _, _ = cancel_duplicate_faces(stitched_faces)
+    try:
+        stitched = _close_up(stitch.vertices, stitched_faces, notes + [stitch.note()], timer,
+                             stitch.provenance(), stitch.uncertainty)
+    except MeshError:
+        return _close_up(vertices, faces, notes, timer, welded)
+    if not stitch.ambiguous:
+        return stitched
+    # some rims stayed open or an edge now has three faces: the stitch may have joined
+    # what it should not have; keep whichever repair states the smaller uncertainty
+    try:
+        plain = _close_up(vertices, faces, notes, timer, welded)
+    except MeshError:
+        return stitched
+    return plain if _stated_error(plain) < _stated_error(stitched) else stitched
+
+
+def _stated_error(repaired: RepairedMesh) -> float:
+    """Stated absolute volume uncertainty of a repair (m^3)."""
+    return sum((b.error_estimate or 0.0) * abs(_volume(b.vertices, b.faces))
+               for b in repaired.bodies)
+
+
+def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str], timer: StageTimes,
+              origin: str, stitch_uncertainty: float = 0.0) -> RepairedMesh:
+    """Orient, cap, turn outward, group and unite welded faces (stages 2-6).
+
+    ``origin`` says how the surface was obtained before capping ("closed as given",
+    "welded", "stitched"); ``stitch_uncertainty`` (m^3) is what stitching may have
+    changed, added to every body's stated error.
+    """
+    notes = list(notes)
     table = edge_table(faces)
     # closed and oriented already (most CAD exports): no flips, no caps, and the edge
     # components are both the orientation patches and the shells
@@ -152,12 +197,27 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> Repaired
     groups, loose = _group(shells)
     if loose:
         notes.append(f"turned {loose} inverted shells that lie in no other body outward")
-    bodies, union_note = _unite(shells, groups, timer if timer is not None else StageTimes())
+    bodies, union_note = _unite(shells, groups, timer)
     if union_note:
         notes.append(union_note)
     if len(bodies) > 1:
         notes.append(f"{len(bodies)} bodies")
+    bodies = [_with_origin(b, origin, stitch_uncertainty) for b in bodies]
     return RepairedMesh(tuple(bodies), tuple(notes))
+
+
+def _with_origin(body: RepairedBody, origin: str, stitch_uncertainty: float) -> RepairedBody:
+    """``body`` with its provenance, and the stitch's uncertainty added to its error."""
+    capped = body.provenance  # set by _body: "" or the caps' summary
+    error, method = body.error_estimate, body.method
+    if origin.startswith("stitched"):
+        method = f"stitched seams; {method}"
+    if stitch_uncertainty > 0:
+        error = (error or 0.0) + stitch_uncertainty / abs(_volume(body.vertices, body.faces))
+        if not capped:
+            origin = f"{origin}, volume within ~{100 * error:.2g}%"
+    provenance = f"{origin}; {capped}" if capped else origin
+    return RepairedBody(body.vertices, body.faces, method, error, body.notes, provenance)
 
 
 def _checked(mesh: TriangleMesh) -> tuple[np.ndarray, np.ndarray]:
@@ -215,7 +275,7 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
     majority_flipped = 2 * np.bincount(patch, weights=flip, minlength=n_patch) > \
         np.bincount(patch, minlength=n_patch)
     given = np.where(majority_flipped, -1.0, 1.0) * np.sign(volume)
-    final = _nest_signs(own_v, own_f, face_patch, np.abs(volume), given, flat)
+    final = nest_signs(own_v, own_f, face_patch, np.abs(volume), given, flat)
     turn = np.sign(volume) != final
     if np.any(~flat):
         big = int(np.argmax(np.where(flat, -1.0, np.abs(volume))))
@@ -237,60 +297,6 @@ def _patch_copies(vertices: np.ndarray, faces: np.ndarray, patch: np.ndarray,
     vertex_patch = np.concatenate([np.repeat(np.arange(count), np.diff(bounds)),
                                    np.zeros(len(own_v) - len(uniq), np.int64)])
     return own_v, own_f, np.concatenate([patch, vertex_patch[own_f[len(local):, 0]]])
-
-
-def _nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
-                size: np.ndarray, given: np.ndarray, skip: np.ndarray) -> np.ndarray:
-    """Wanted sign of each labelled closed surface's volume (+1 solid, -1 cavity).
-
-    A surface in no other is a solid. A nested one keeps its ``given`` orientation
-    relative to its innermost container: opposite is a cavity, same is a solid.
-    Surfaces marked ``skip`` take part in nothing and get +1.
-    """
-    k = len(size)
-    final = np.ones(k)
-    live = np.flatnonzero(~skip)
-    if len(live) < 2:
-        return final
-    order = np.argsort(label, kind="stable")
-    bounds = np.searchsorted(label[order], np.arange(k + 1))
-    tri = vertices[faces]
-    corner_lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
-    corner_hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
-    lo = np.minimum.reduceat(corner_lo[order], bounds[:-1])  # every label has faces
-    hi = np.maximum.reduceat(corner_hi[order], bounds[:-1])
-    cand = (np.all(lo[:, None] >= lo[None], axis=2) & np.all(hi[:, None] <= hi[None], axis=2)
-            & (size[:, None] < size[None]) & ~skip[:, None] & ~skip[None])
-    inside = np.zeros((k, k), dtype=bool)  # inside[p, q]: surface p lies in surface q
-    probes = _probe_points(tri[order], bounds) if cand.any() else None
-    for q in np.flatnonzero(cand.any(axis=0)):  # one winding evaluation per container
-        ps = np.flatnonzero(cand[:, q])
-        mine = order[bounds[q]:bounds[q + 1]]
-        w = closed_winding_numbers(probes[ps], vertices, faces[mine])
-        inside[ps, q] = np.abs(w) > 0.5
-    for p in live[np.argsort(-size[live])]:  # containers are larger: settled first
-        qs = np.flatnonzero(inside[p])
-        if len(qs):
-            q = qs[np.argmin(size[qs])]
-            final[p] = final[q] if given[p] == given[q] else -final[q]
-    return final
-
-
-def _probe_points(triangles: np.ndarray, bounds: np.ndarray) -> np.ndarray:
-    """:func:`_probe_point` of each group ``triangles[bounds[i]:bounds[i + 1]]`` at once."""
-    area = np.linalg.norm(np.cross(triangles[:, 1] - triangles[:, 0],
-                                   triangles[:, 2] - triangles[:, 0]), axis=1)
-    best = np.maximum.reduceat(area, bounds[:-1])  # every group has triangles
-    at_best = np.flatnonzero(area == np.repeat(best, np.diff(bounds)))
-    first = at_best[np.searchsorted(at_best, bounds[:-1])]  # argmax: the first largest
-    return triangles[first].mean(axis=1)
-
-
-def _probe_point(triangles: np.ndarray) -> np.ndarray:
-    """The centroid of the largest of ``triangles``, for inside/outside tests."""
-    area = np.linalg.norm(np.cross(triangles[:, 1] - triangles[:, 0],
-                                   triangles[:, 2] - triangles[:, 0]), axis=1)
-    return triangles[int(np.argmax(area))].mean(axis=0)
 
 
 def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
@@ -346,7 +352,7 @@ def _group(shells: list[_Shell]) -> tuple[list[tuple[int, list[int]]], int]:
     boxed = (np.all(lo[neg][:, None] >= lo[pos][None], axis=2)
              & np.all(hi[neg][:, None] <= hi[pos][None], axis=2))  # (cavity, container)
     inside = np.zeros_like(boxed)
-    probes = {c: _probe_point(shells[c].vertices[shells[c].faces])
+    probes = {c: probe_point(shells[c].vertices[shells[c].faces])
               for c in neg[boxed.any(axis=1)].tolist()}
     for j in np.flatnonzero(boxed.any(axis=0)):  # one winding evaluation per container
         rows = np.flatnonzero(boxed[:, j])
@@ -378,10 +384,12 @@ def _body(shells: list[_Shell], outer: int, cavities: list[int]) -> RepairedBody
     uncertainty = sum(float(s.caps.uncertainty.sum()) for s in members)
     notes: list[str] = []
     error = 0.0
+    provenance = ""
     if loops == 0:
         method = "exact (closed mesh)"
     elif planar == loops:
         method = f"exact after closing {loops} planar holes"
+        provenance = f"capped {loops} planar holes exactly"
     else:
         method = f"closed {loops} holes with caps (estimate)"
         error = uncertainty / volume
@@ -389,9 +397,10 @@ def _body(shells: list[_Shell], outer: int, cavities: list[int]) -> RepairedBody
         share = sum(float(s.caps.area.sum()) for s in members) / area
         notes.append(f"open mesh: closed {loops} holes ({100 * share:.2g}% of the surface), "
                      f"volume estimated within ~{100 * error:.2g}%")
+        provenance = f"capped {loops} holes (volume within ~{100 * error:.2g}%)"
     if cavities:
         notes.append(f"{len(cavities)} cavities subtracted")
-    return RepairedBody(vertices, faces, method, error, tuple(notes))
+    return RepairedBody(vertices, faces, method, error, tuple(notes), provenance)
 
 
 def _unite(shells: list[_Shell], groups: list[tuple[int, list[int]]], timer: StageTimes,
@@ -426,12 +435,14 @@ def _unite(shells: list[_Shell], groups: list[tuple[int, list[int]]], timer: Sta
     base = "exact" if exact else "holes closed with caps (estimate)"
     error = max(b.error_estimate or 0.0 for b in chosen)
     notes = tuple(dict.fromkeys(n for b in chosen for n in b.notes))
+    capped = "; ".join(dict.fromkeys(b.provenance for b in chosen if b.provenance))
     new = []
     for o, c in groups_u:
         body = _body(shells_u, o, c)
         new.append(RepairedBody(body.vertices, body.faces,
                                 f"{base}; boolean union of overlapping bodies (manifold3d)",
-                                error, notes + body.notes))
+                                error, notes + body.notes,
+                                f"{capped}; united" if capped else "united"))
     note = (f"united {len(involved)} overlapping bodies into {len(new)}: removed "
             f"{100 * (before - after) / before:.3g}% double-counted volume")
     return rest + new, note
