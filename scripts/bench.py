@@ -19,7 +19,12 @@ meanwhile cannot mix two versions into one benchmark. Prints wall time, peak mem
 ratios to the baseline, a per-stage breakdown summed over processes, and checks that
 every tool run wrote identical bytes.
 
-Usage: python scripts/bench.py [--robots DIR] [--jobs 2]
+With ``--against REF`` the cold and warm single-worker rows also run the package as it is
+at git revision REF (a snapshot of ``src/urdfinertia`` taken with ``git archive``), in the
+same invocation, and the table shows each beside the current code: the way to show that a
+change made nothing slower.
+
+Usage: python scripts/bench.py [--robots DIR] [--jobs 2] [--against REF]
 (default DIR: example-robot-data's robots folder, a dev dependency).
 """
 
@@ -108,9 +113,15 @@ def child_baseline(robots: Path) -> dict:
 
 
 def child_tool(robots: Path, out: Path, jobs: int, cache_dir: Path) -> dict:
-    from urdfinertia.batch.inputs import collect_jobs
-    from urdfinertia.batch.run import BatchSettings, run_batch
-    from urdfinertia.link.options import FixOptions
+    try:
+        from urdfinertia.batch.inputs import collect_jobs
+        from urdfinertia.batch.run import BatchSettings, run_batch
+        from urdfinertia.link.options import FixOptions
+    except ImportError:  # a revision before the subpackage layout (--against)
+        from urdfinertia.batch_inputs import collect_jobs  # type: ignore[no-redef]
+        from urdfinertia.fix import FixOptions  # type: ignore[no-redef]
+
+        from urdfinertia.batch import BatchSettings, run_batch  # type: ignore[no-redef]
 
     start = time.perf_counter()
     report = run_batch(collect_jobs([robots], out), FixOptions(),
@@ -147,6 +158,22 @@ def snapshot(dest: Path) -> Path:
     return dest
 
 
+def snapshot_ref(ref: str, dest: Path) -> Path:
+    """:func:`snapshot` of the package as it is at git revision ``ref``."""
+    import compileall
+    import io
+    import tarfile
+
+    root = Path(__file__).resolve().parents[1]
+    data = subprocess.run(["git", "-C", str(root), "archive", "--format=tar", ref,
+                           "src/urdfinertia"], capture_output=True, check=True).stdout
+    with tarfile.open(fileobj=io.BytesIO(data)) as tar:
+        tar.extractall(dest / "archive", filter="data")
+    shutil.move(dest / "archive" / "src" / "urdfinertia", dest / "urdfinertia")
+    compileall.compile_dir(dest / "urdfinertia", quiet=1)
+    return dest
+
+
 def run_child(args: list[str], code: Path) -> tuple[float, dict]:
     env = dict(os.environ, PYTHONPATH=str(code))
     start = time.perf_counter()
@@ -166,6 +193,8 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--robots", type=Path, help="folder of URDFs (default: example-robot-data)")
     p.add_argument("--jobs", type=int, default=2, help="workers of the parallel rows")
+    p.add_argument("--against", metavar="REF",
+                   help="also time the cold and warm 1-worker runs of git revision REF")
     p.add_argument("--child", choices=("baseline", "tool"), help=argparse.SUPPRESS)
     p.add_argument("--out", type=Path, help=argparse.SUPPRESS)
     p.add_argument("--cache-dir", type=Path, help=argparse.SUPPRESS)
@@ -204,6 +233,18 @@ def main() -> int:
             print(f"{name}: {wall:.1f} s")
         trees = [tree_bytes(t / out) for *_, out in plan]
         identical = all(tr == trees[0] for tr in trees[1:])
+        against = []
+        if args.against:
+            old = snapshot_ref(args.against, t / "old-code")
+            for name, cache, out in [("cold, 1 worker", "cache-old", "out-old-cold"),
+                                     ("warm, 1 worker", "cache-old", "out-old-warm")]:
+                wall, res = run_child(["--child", "tool", "--robots", str(robots), "--jobs",
+                                       "1", "--cache-dir", str(t / cache),
+                                       "--out", str(t / out)], old)
+                assert res["module"].startswith(str(old)), res["module"]
+                against.append((f"{name} [{args.against}]", wall, res))
+                print(f"{name} [{args.against}]: {wall:.1f} s")
+            same_as_old = tree_bytes(t / "out-old-cold") == trees[0]
     base = rows[0][1]
     base_work = rows[0][2]["work"]
     print()
@@ -217,6 +258,18 @@ def main() -> int:
         print(f"| {name} | {wall:.2f} | {res['work']:.2f} | {wall / base:.3f} | {mark} | "
               f"{res['work'] / base_work:.3f} | {res['peak_main_mb']:.0f} | "
               f"{res['peak_worker_mb']:.0f} |")
+    if against:
+        now = {name: (wall, res) for name, wall, res in rows}
+        print(f"\nthis checkout beside {args.against}, measured in this run:\n")
+        print("| run | this checkout wall s | " + args.against + " wall s | ratio | "
+              "this checkout work s | " + args.against + " work s |")
+        print("|---|---:|---:|---:|---:|---:|")
+        for name, wall, res in against:
+            plain = name.split(" [")[0]
+            w_now, r_now = now[plain]
+            print(f"| {plain} | {w_now:.2f} | {wall:.2f} | {w_now / wall:.2f} | "
+                  f"{r_now['work']:.2f} | {res['work']:.2f} |")
+        print(f"outputs identical to {args.against}'s: {'yes' if same_as_old else 'NO'}")
     worst = max(r["peak_main_mb"] + n * r["peak_worker_mb"] for _, _, r in rows[1:])
     print(f"\npeak memory bound (main + {n} x largest worker): {worst:.0f} MB "
           f"(target < {MEMORY_TARGET_MB}: {'ok' if worst < MEMORY_TARGET_MB else 'MISSED'})")
