@@ -1,10 +1,12 @@
 """Does this checkout's ``fix`` write what another revision wrote, file for file?
 
-    python scripts/compare_outputs.py OLD_REF [ROBOTS_DIR] [--keep DIR] [-- FIX_OPTIONS...]
+    python scripts/compare_outputs.py OLD_REF [ROBOTS_DIR] [--new REF] [--keep DIR]
+                                      [-- FIX_OPTIONS...]
 
 Checks out OLD_REF (a commit, branch or tag) into a temporary git worktree, runs
 ``urdf-inertia fix ROBOTS_DIR -o OUT`` with that revision's code and with this checkout's
-(each with a private, empty mesh cache), and compares the written files byte for byte.
+(or revision ``--new REF``'s; each with a private, empty mesh cache), and compares the
+written files byte for byte.
 ROBOTS_DIR defaults to example-robot-data's ``robots`` folder. For every file that differs
 it prints, per link, the relative change of mass, the CoM shift and the relative change of
 the tensor (Frobenius). Exit code 0 when every output is byte-identical, 1 otherwise.
@@ -33,9 +35,13 @@ def run_fix(src: Path, robots: Path, out: Path, cache: Path, extra: list[str]) -
     proc = subprocess.run([sys.executable, "-m", "urdfinertia.cli", "fix", str(robots),
                            "-o", str(out), "-q", *extra], env=env, capture_output=True,
                           text=True)
-    if proc.returncode not in (0, 1):
+    if not out.is_dir():  # a file that fails is reported and the rest written (exit 1 or 2)
         sys.stderr.write(proc.stderr)
         raise SystemExit(f"fix failed with exit code {proc.returncode} ({src})")
+    failed = [line for line in proc.stderr.splitlines() if ": error: " in line]
+    print(f"{src}: exit {proc.returncode}, {len(failed)} file error(s)")
+    for line in failed:
+        print(f"    {line[:160]}")
     return time.perf_counter() - start
 
 
@@ -72,6 +78,7 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("old_ref")
     p.add_argument("robots", type=Path, nargs="?")
+    p.add_argument("--new", metavar="REF", help="compare with revision REF, not this checkout")
     p.add_argument("--keep", type=Path, help="keep both output trees here")
     args = p.parse_args(argv)
     robots = args.robots
@@ -84,15 +91,24 @@ def main(argv: list[str] | None = None) -> int:
         robots = found / "robots"
     with tempfile.TemporaryDirectory(prefix="urdfinertia-compare-") as tmp:
         base = args.keep or Path(tmp)
-        worktree = Path(tmp) / "old"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q",
-                        str(worktree), args.old_ref], check=True)
+        trees = {"old": args.old_ref, "new": args.new}
+        sources = {}
+        for side, ref in trees.items():
+            if ref is None:
+                sources[side] = ROOT / "src"
+                continue
+            worktree = Path(tmp) / f"tree-{side}"
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q",
+                            str(worktree), ref], check=True)
+            sources[side] = worktree / "src"
         try:
-            t_old = run_fix(worktree / "src", robots, base / "old", Path(tmp) / "c1", extra)
-            t_new = run_fix(ROOT / "src", robots, base / "new", Path(tmp) / "c2", extra)
+            t_old = run_fix(sources["old"], robots, base / "old", Path(tmp) / "c1", extra)
+            t_new = run_fix(sources["new"], robots, base / "new", Path(tmp) / "c2", extra)
         finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
-                            str(worktree)], check=False)
+            for side in trees:
+                if trees[side] is not None:
+                    subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
+                                    str(Path(tmp) / f"tree-{side}")], check=False)
         old_files = {p.relative_to(base / "old") for p in (base / "old").rglob("*")
                      if p.is_file()}
         new_files = {p.relative_to(base / "new") for p in (base / "new").rglob("*")
@@ -110,7 +126,8 @@ def main(argv: list[str] | None = None) -> int:
                     print(line)
                 differing.append(rel)
         print(f"{len(old_files | new_files)} outputs, {len(differing)} differ; "
-              f"fix took {t_old:.1f} s ({args.old_ref}) and {t_new:.1f} s (this checkout)")
+              f"fix took {t_old:.1f} s ({args.old_ref}) and {t_new:.1f} s "
+              f"({args.new or 'this checkout'})")
     return 1 if differing else 0
 
 
