@@ -156,13 +156,13 @@ class MeshLibrary:
                 found = exc
             self._memo[key] = found
         if isinstance(found, Exception):
-            exc = fresh(found)  # callers add context to the exception they get
-            if isinstance(exc, MeshError) and path.name not in exc.cause:
+            error = fresh(found)  # callers add context to the exception they get
+            if isinstance(error, MeshError) and path.name not in error.cause:
                 # the file/line context is the URDF's (added by the caller); name the mesh
                 # in the cause instead
-                exc.cause = f"mesh {path}: {exc.cause}"
-                exc.args = (exc.cause,)
-            raise exc
+                error.cause = f"mesh {path}: {error.cause}"
+                error.args = (error.cause,)
+            raise error
         return found
 
     def failed_for_bytes_only(self, trace: list[tuple[str, str, str]]) -> bool:

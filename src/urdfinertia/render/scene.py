@@ -127,7 +127,8 @@ def existing_mass_properties(inertial: Inertial | None) -> tuple[MassProperties 
     if not inertial.mass > 0:
         return None, f"invalid: mass {inertial.mass:g} kg is not positive"
     try:
-        mp = MassProperties(inertial.mass, inertial.origin.xyz, inertial.tensor_in_link())
+        mp = MassProperties(inertial.mass, np.array(inertial.origin.xyz),
+                            inertial.tensor_in_link())
     except ValueError as exc:
         return None, f"invalid: {exc}"
     return mp, ""

@@ -20,7 +20,7 @@ import struct
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
 
 import numpy as np
 
@@ -74,7 +74,7 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
     pieces = _native_pieces(path, suffix, data, max_faces) if data is not None else None
     loaded = _load_scene(path, suffix) if pieces is None else None
     try:
-        if loaded is not None:
+        if pieces is None:
             pieces = _scene_pieces(loaded)
         vertices, faces = _concatenate(pieces, path, max_faces)
     except MeshError:
@@ -83,7 +83,7 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
         raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
     if len(faces) == 0:
         raise MeshError(f"mesh {path} holds no triangles")
-    if suffix == ".dae":
+    if suffix == ".dae" and data is not None:
         unit = _collada_unit(data[:_UNIT_HEAD])
     else:
         unit = loaded.metadata.get("unit_meter") if hasattr(loaded, "metadata") else None
@@ -174,10 +174,10 @@ def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
                      f"{max_faces} (raise it with --max-faces)")
 
 
-def _load_scene(path: Path, suffix: str):
+def _load_scene(path: Path, suffix: str) -> Any:
     import trimesh
 
-    kwargs = {"skip_materials": True} if suffix == ".obj" else {}
+    kwargs: dict[str, Any] = {"skip_materials": True} if suffix == ".obj" else {}
     try:
         # trimesh's default resolver reads only files under the mesh's folder and
         # allow_remote=False keeps it off the network.

@@ -34,7 +34,7 @@ def nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
     cand = (np.all(lo[:, None] >= lo[None], axis=2) & np.all(hi[:, None] <= hi[None], axis=2)
             & (size[:, None] < size[None]) & ~skip[:, None] & ~skip[None])
     inside = np.zeros((k, k), dtype=bool)  # inside[p, q]: surface p lies in surface q
-    probes = _probe_points(tri[order], bounds) if cand.any() else None
+    probes = _probe_points(tri[order], bounds) if cand.any() else np.zeros((0, 3))
     for q in np.flatnonzero(cand.any(axis=0)):  # one winding evaluation per container
         ps = np.flatnonzero(cand[:, q])
         mine = order[bounds[q]:bounds[q + 1]]

@@ -9,8 +9,11 @@ import numpy as np
 
 
 class _Closed(Protocol):
-    vertices: np.ndarray
-    faces: np.ndarray
+    @property
+    def vertices(self) -> np.ndarray: ...
+
+    @property
+    def faces(self) -> np.ndarray: ...
 
 
 def union_bodies(bodies: Sequence[_Closed]) -> tuple[np.ndarray, np.ndarray] | None:
