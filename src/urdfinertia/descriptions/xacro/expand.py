@@ -151,8 +151,6 @@ def _hooks(state: _State) -> dict[str, Any]:
     import xacro
     import yaml
 
-    original_eval_all = xacro.eval_all
-
     def parse(inp, filename=None):  # noqa: ANN001, ANN202 - xacro's signature
         if inp is not None:
             return original_parse(inp, filename)
@@ -290,7 +288,7 @@ def expand_xacro(path: str | Path, data: bytes | None = None, *,
     settings = settings or _settings
     real = {os.path.realpath(p): v for p, v in (overrides or {}).items()}
     if data is not None:
-        real[os.path.realpath(path)] = data
+        real.setdefault(os.path.realpath(path), data)
     state = _State(real, settings, path.parent)
     warnings = io.StringIO()
     with _LOCK, _patched(state), contextlib.redirect_stderr(warnings):
