@@ -56,6 +56,9 @@ def _without(document: bytes, links: set[str]) -> bytes:
                   if name in spans and spans[name].inertial is not None)
     out, pos = [], 0
     for start, end in cuts:
+        line = document.rfind(b"\n", 0, start)
+        if line >= 0 and not document[line + 1:start].strip():
+            start = line  # the element's line goes whole: an added one leaves no blank
         out += [document[pos:start]]
         pos = end
     return b"".join(out) + document[pos:]
