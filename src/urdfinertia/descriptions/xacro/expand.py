@@ -302,6 +302,9 @@ def expand_xacro(path: str | Path, data: bytes | None = None, *,
             raise _located(UrdfError("xacro: recursion too deep (an include or macro that "
                                      "includes or calls itself?)"), state, None, xacro) from None
         except Exception as exc:  # xacro raises many types; each becomes one located line
+            inner = _inner_error(exc)
+            if inner is not None:  # a hook's refusal, wrapped by xacro's expression handler
+                raise _located(inner, state, exc, xacro) from None
             cause = " ".join(str(exc).split()) or type(exc).__name__
             raise _located(UrdfError(f"xacro: {cause}"), state, exc, xacro) from None
     locations = _strip_and_locate(doc)
@@ -309,6 +312,17 @@ def expand_xacro(path: str | Path, data: bytes | None = None, *,
     doc.unlink()
     return Expansion(document, tuple(state.sources), tuple(state.source_bytes),
                      tuple(locations), warnings.getvalue())
+
+
+def _inner_error(exc: BaseException) -> UrdfInertiaError | None:
+    seen = 0
+    current: BaseException | None = exc
+    while current is not None and seen < 20:
+        if isinstance(current, UrdfInertiaError):
+            return current
+        current = getattr(current, "exc", None) or current.__context__
+        seen += 1
+    return None
 
 
 def _located(error: UrdfInertiaError, state: _State, exc: BaseException | None,
