@@ -195,3 +195,13 @@ def test_other_commands_read_xacro(command, capsys):
     code = main([command[0], str(path), *command[1:]])
     assert code in (0, 1)
     assert "left_leg" in capsys.readouterr().out
+
+
+def test_package_uri_includes_resolve_through_the_package_lookup(tmp_path):
+    write(tmp_path, "pkg/package.xml", "<package><name>my_robot</name></package>")
+    write(tmp_path, "pkg/urdf/part.xacro", HEAD + '  <link name="from_package"/>\n</robot>\n')
+    path = write(tmp_path, "pkg/robots/r.urdf.xacro",
+                 HEAD + '  <xacro:include filename="package://my_robot/urdf/part.xacro"/>\n'
+                 "</robot>\n")
+    robot, _ = read_description(path)
+    assert [link.name for link in robot.links] == ["from_package"]

@@ -128,11 +128,36 @@ class _LocatingBuilder(expatbuilder.ExpatBuilderNS):
             node.setAttribute(SOURCE_ATTR, f"{where[0]}:{where[1]}")
 
 
+_PACKAGE_URI = re.compile(r"package://([^/]*)/(.*)\Z", re.S)
+_FILE_URI = re.compile(r"file://(?:localhost)?(/.*)\Z", re.S)
+
+
+def _local_path(text: str, state: _State) -> str:
+    """The file a name xacro asks for denotes: ``package://`` through the package lookup
+    (xacro itself would join it to the including file's folder), ``file://`` as a path;
+    any other URL is refused."""
+    from urdfinertia.descriptions.paths import find_package
+
+    scheme = _URL.search(text)
+    if scheme is None:
+        return text
+    uri = text[scheme.start():]
+    package = _PACKAGE_URI.match(uri)
+    if package is not None:
+        found = find_package(package.group(1), state.main_dir, dict(state.settings.package_dirs))
+        if found is None:
+            raise UrdfError(f"{uri}: package '{package.group(1)}' not found: pass "
+                            f"--package-dir {package.group(1)}=PATH or set ROS_PACKAGE_PATH")
+        return str(found / package.group(2))
+    local = _FILE_URI.match(uri)
+    if local is not None:
+        return local.group(1)
+    raise UrdfError(f"xacro reads only local files, not URLs: {uri!r}")
+
+
 def read_source(path: str | Path, state: _State) -> bytes:
     """A file xacro asks for: refused if it is a URL, too large or hostile XML."""
-    text = os.fspath(path)
-    if _URL.search(text):
-        raise UrdfError(f"xacro reads only local files, not URLs: {text!r}")
+    text = _local_path(os.fspath(path), state)
     real = os.path.realpath(text)
     if real in state.overrides:
         data = state.overrides[real]
