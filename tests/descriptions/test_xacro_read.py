@@ -205,3 +205,9 @@ def test_package_uri_includes_resolve_through_the_package_lookup(tmp_path):
                  "</robot>\n")
     robot, _ = read_description(path)
     assert [link.name for link in robot.links] == ["from_package"]
+
+
+def test_xacro_code_in_comments_of_a_generated_urdf_keeps_it_a_urdf(tmp_path):
+    text = (HEAD + '  <!-- <limit soft_lower_limit="${-15.0 * deg}"/> -->\n'
+            '  <link name="a"/>\n</robot>\n')
+    assert detect_format(text.encode(), tmp_path / "talos.urdf").name == "urdf"

@@ -25,6 +25,7 @@ from urdfinertia.errors import UrdfError
 _XACRO_NS = re.compile(rb"xmlns:xacro\s*=\s*[\"']https?://(?:www\.)?ros\.org/wiki/xacro/?[\"']")
 _XACRO_USE = re.compile(rb"<xacro:|\$\{|\$\(")
 _ROOT_TAG = re.compile(rb"<robot\b[^>]*>", re.S)
+_COMMENT = re.compile(rb"<!--.*?-->", re.S)
 _MEMO: OrderedDict[tuple, tuple] = OrderedDict()
 _MEMO_SIZE = 8
 
@@ -35,7 +36,9 @@ def claims(data: bytes, path: Path) -> bool:
         return True
     head = data[: 1 << 16]
     root = _ROOT_TAG.search(head)
-    return bool(root and _XACRO_NS.search(root.group(0)) and _XACRO_USE.search(data))
+    # generated URDFs often keep the declaration, and xacro code in comments (talos)
+    return bool(root and _XACRO_NS.search(root.group(0))
+                and _XACRO_USE.search(_COMMENT.sub(b"", data)))
 
 
 def _signature(paths: tuple[Path, ...]) -> tuple:
@@ -102,13 +105,13 @@ def _patch(data, new):  # noqa: ANN001, ANN202
     """Patch the expanded URDF (``data`` is it, or a xacro source expanded just before)."""
     from urdfinertia.descriptions.urdf.write import patch_inertials
 
-    if _XACRO_USE.search(data):
-        digest = hashlib.blake2b(data, digest_size=20).digest()
-        for key, (exp, _) in reversed(_MEMO.items()):
-            if key[1] == digest:
-                data = exp.document
-                break
-        else:
+    digest = hashlib.blake2b(data, digest_size=20).digest()
+    for key, (exp, _) in reversed(_MEMO.items()):
+        if key[1] == digest:  # the source of an expansion made moments ago (batch runs)
+            data = exp.document
+            break
+    else:
+        if _XACRO_USE.search(_COMMENT.sub(b"", data)):
             raise UrdfError("xacro source given to the URDF writer without its expansion")
     return patch_inertials(data, new)
 
