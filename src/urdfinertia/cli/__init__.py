@@ -112,6 +112,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser, mods = build_parser()
         args = parser.parse_args(argv)
     try:
+        from urdfinertia.cli.options import configure_descriptions
+
+        configure_descriptions(args)
         with warnings.catch_warnings():
             if not args.debug:
                 # numpy's overflow/invalid-value warnings would add lines to stderr; the

@@ -41,6 +41,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "tensors (not positive definite, A + B < C) just enough; geometry "
                         "options are ignored")
     add_batch_arguments(p)
+    from urdfinertia.cli import writeback
+
+    writeback.add_arguments(p)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -52,6 +55,8 @@ def run(args: argparse.Namespace) -> int:
             raise UrdfInertiaError("--repair-only takes a single URDF file")
         result = repair_file(args.urdf)
     elif is_batch(args):
+        if getattr(args, "write_back", False):
+            raise UrdfInertiaError("--write-back takes a single xacro file")
         return run_many(args, options)
     else:
         meshes = single_file_library(args, options)
@@ -66,7 +71,12 @@ def run(args: argparse.Namespace) -> int:
         from urdfinertia.render.results_json import fix_result_dict
 
         text = json.dumps(fix_result_dict(result), indent=2)
-    if args.in_place:
+    from urdfinertia.cli import writeback
+
+    # xacro: the sources are edited (--write-back, or --in-place on xacro input)
+    plan = writeback.write_back(args, result) if writeback.wants_write_back(args, result) \
+        else None
+    if args.in_place and plan is None:
         if result.changed:
             write_in_place(args.urdf, result.output)
     elif args.output is not None:
@@ -78,9 +88,12 @@ def run(args: argparse.Namespace) -> int:
 
         from urdfinertia.render.table import print_fix_table
 
-        console = Console(stderr=args.output is None and not args.in_place, width=160)
+        console = Console(stderr=args.output is None and not args.in_place and plan is None,
+                          width=160)
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
-    if args.output is None and not args.in_place:
+        if plan is not None:
+            writeback.print_summary(plan, console)
+    if args.output is None and not args.in_place and plan is None:
         sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
     return 0
 

@@ -26,6 +26,13 @@ def package_dir(text: str) -> tuple[str, Path]:
     return name, Path(path)
 
 
+def xacro_arg(text: str) -> tuple[str, str]:
+    name, sep, value = text.partition(":=")
+    if not sep or not name.strip():
+        raise argparse.ArgumentTypeError(f"expected NAME:=VALUE, got {text!r}")
+    return name.strip(), value
+
+
 #: Upper bound of --density, kg/m^3: the densest element (osmium) is 22,590; a larger value
 #: is a unit slip (g/cm^3 read as kg/m^3 goes the other way, but 1e6+ is never a material).
 MAX_DENSITY = 1e6
@@ -56,6 +63,8 @@ def add_geometry_source_arguments(p: argparse.ArgumentParser) -> None:
                         "else visual (default: auto)")
     p.add_argument("--package-dir", type=package_dir, action="append", default=[],
                    metavar="NAME=PATH", help="where package://NAME/ points (repeatable)")
+    p.add_argument("--xacro-arg", type=xacro_arg, action="append", default=[],
+                   metavar="NAME:=VALUE", help="argument of a xacro input (repeatable)")
     p.add_argument("--max-faces", type=int, default=DEFAULT_MAX_FACES, metavar="N",
                    help=f"refuse meshes with more faces, or mesh files larger than "
                         f"{BYTES_PER_FACE} bytes per face plus 1 MiB, before reading them "
@@ -91,3 +100,10 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
     )
 
 
+def configure_descriptions(args: argparse.Namespace) -> None:
+    """Settings that reading a description needs beyond its path: xacro's arguments and
+    where ``$(find PKG)`` points (set for the whole run; commands without them reset)."""
+    from urdfinertia.descriptions.xacro.expand import configure
+
+    configure(dict(getattr(args, "xacro_arg", None) or []),
+              dict(getattr(args, "package_dir", None) or []))

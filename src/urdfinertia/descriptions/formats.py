@@ -50,11 +50,14 @@ class DescriptionFormat:
     patch: Callable[[bytes, NewInertials], bytes]
     #: decides a file whose root element is shared with another format (xacro's <robot>)
     claims: Callable[[bytes, Path], bool] | None = None
+    #: (bytes, path) -> bytes: for a file that generates another format's document (xacro
+    #: -> URDF), the document that ``read`` reads and ``patch`` edits
+    expand: Callable[[bytes, Path], bytes] | None = None
 
 
 _FORMATS: dict[str, DescriptionFormat] = {}
 #: Modules that register the built-in formats when first imported.
-_BUILTIN = ("urdfinertia.descriptions.urdf",)
+_BUILTIN = ("urdfinertia.descriptions.urdf", "urdfinertia.descriptions.xacro")
 #: Bytes searched for the root element (comments and a DOCTYPE may come first).
 _SNIFF_BYTES = 1 << 16
 _PROLOG = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s+|<\?.*?\?>|<!--.*?-->|<![^>]*>)*", re.S)
@@ -131,7 +134,10 @@ def read_description(path: str | Path, *, lenient: bool = False) -> tuple[Robot,
     """Read a description file: its robot model and its original bytes.
 
     ``lenient``: keep non-finite inertial values (as NaN/inf) for ``check`` and ``compare``
-    instead of refusing the file.
+    instead of refusing the file. The bytes are the document the robot was read from: for
+    a generating format (xacro) the expansion, which ``patch`` edits.
     """
     data = read_bytes(path)
-    return robot_from_bytes(data, path, lenient=lenient), data
+    fmt = detect_format(data, Path(path))
+    robot = (fmt.read_lenient if lenient else fmt.read)(data, Path(path))
+    return robot, (fmt.expand(data, Path(path)) if fmt.expand is not None else data)
