@@ -135,3 +135,20 @@ def read_description(path: str | Path, *, lenient: bool = False) -> tuple[Robot,
     """
     data = read_bytes(path)
     return robot_from_bytes(data, path, lenient=lenient), data
+
+
+def is_description(data: bytes, path: str | Path) -> bool:
+    """Whether a registered format takes this file by both its suffix and its root element.
+
+    For callers handed every ``*.xml`` (or ``*.xacro``, ``*.sdf``) of a repository, such as
+    the pre-commit hook: a ROS ``package.xml`` or a launch file is not a description, and a
+    format that is not registered yet is not read as URDF.
+    """
+    _load_builtin()
+    suffix = Path(path).suffix.lower()
+    root = root_name(data)
+    for fmt in _FORMATS.values():
+        if suffix in fmt.suffixes and root in fmt.roots:
+            if fmt.claims is None or fmt.claims(data, Path(path)):
+                return True
+    return False
