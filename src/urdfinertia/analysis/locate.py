@@ -23,6 +23,8 @@ from urdfinertia.descriptions.model import Robot
 #: Element names that carry a link's name in the registered formats (URDF/SDF ``link``,
 #: MJCF ``body``).
 _LINK_TAGS = (b"link", b"body")
+_HIDDEN = re.compile(rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>", re.S)
+_NOT_NEWLINE = re.compile(rb"[^\n]")
 
 
 @dataclass(frozen=True)
@@ -53,6 +55,15 @@ class Locator:
         self.robot = robot
         self.data = data
         self._line_starts: list[int] | None = None
+        self._masked: bytes | None = None
+
+    @property
+    def text(self) -> bytes:
+        """The document with comments and CDATA blanked (same offsets, newlines kept), so a
+        commented-out ``<link name="x">`` is never taken for the element."""
+        if self._masked is None:
+            self._masked = _HIDDEN.sub(lambda m: _NOT_NEWLINE.sub(b" ", m.group()), self.data)
+        return self._masked
 
     def locate(self, finding: Finding) -> Location:
         element = finding.rule.element
@@ -76,7 +87,7 @@ class Locator:
         return Location(line or 1, 1)
 
     def _root(self) -> Location:
-        found = re.search(rb"<(?![?!])", self.data)
+        found = re.search(rb"<(?![?!])", self.text)
         return self._at(found.start()) if found else Location(1, 1)
 
     def _link_start(self, name: str) -> int | None:
@@ -84,15 +95,15 @@ class Locator:
         tags = b"|".join(_LINK_TAGS)
         pattern = (rb"<(?:" + tags + rb")\b[^>]*?\bname\s*=\s*(?:\"" + quoted + rb"\"|'"
                    + quoted + rb"')")
-        found = re.search(pattern, self.data)
+        found = re.search(pattern, self.text)
         return found.start() if found else None
 
     def _inertial_start(self, link_start: int) -> int | None:
         # the first <inertial before the element closes (or a sibling link begins)
         end = re.compile(rb"</(?:link|body)\s*>|<(?:link|body)\b")
-        stop = end.search(self.data, link_start + 1)
+        stop = end.search(self.text, link_start + 1)
         found = re.compile(rb"<inertial\b").search(
-            self.data, link_start, stop.start() if stop else len(self.data))
+            self.text, link_start, stop.start() if stop else len(self.text))
         return found.start() if found else None
 
     def _at(self, offset: int) -> Location:

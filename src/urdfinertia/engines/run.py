@@ -214,3 +214,41 @@ def _tail(output: str, lines: int = 3) -> str:
     """The engine's last few messages (a crash leaves no exception to quote)."""
     keep = engine_lines(output)
     return (": " + " | ".join(keep[-lines:])[:400]) if keep else ""
+
+
+def stable(outcome: Outcome) -> bool:
+    """Accepted, and the passive run stayed finite, calm and within speed."""
+    r = outcome.result
+    return (outcome.accepted and r is not None and r["nan_time"] is None and not r["runaway"]
+            and not any(w in _BAD_STATE for w in r["warnings"]))
+
+
+def regressions(before: Mapping[str, Outcome], after: Mapping[str, Outcome],
+                ) -> list[Finding]:
+    """What ``fix`` made worse in an engine: refused (error) or unstable (warning) output
+    where the input was accepted or stable. Neither must ever happen."""
+    out = []
+    for name, old in before.items():
+        new = after.get(name)
+        if new is None or old.missing:
+            continue
+        label = ENGINES[name].label
+        if old.accepted and not new.accepted:
+            why = (new.result or {}).get("message") or new.failure or "refused"
+            out.append(Finding(None, "error", "engine-regression",
+                               f"{label} loads the input but not the fixed output: "
+                               f"{_one_line(str(why))}"))
+        elif stable(old) and not stable(new):
+            out.append(Finding(None, "warning", "engine-regression",
+                               f"{label} runs the input stably but not the fixed output"))
+    return out
+
+
+def outcome_summary(outcome: Outcome) -> str:
+    if outcome.missing:
+        return "not installed"
+    if outcome.result is None:
+        return str(outcome.failure)
+    if not outcome.accepted:
+        return "refused"
+    return "stable" if stable(outcome) else "unstable"
