@@ -19,7 +19,6 @@ from urdfinertia.analysis.locate import CheckedFile
 
 SARIF_SCHEMA = ("https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/"
                 "sarif-schema-2.1.0.json")
-INFORMATION_URI = "https://github.com/urdfinertia/urdfinertia"
 #: our severities -> SARIF levels
 LEVELS = {"error": "error", "warning": "warning", "info": "note"}
 
@@ -87,7 +86,6 @@ def sarif_document(files: list[CheckedFile], *, with_baseline: bool = False,
         "version": "2.1.0",
         "runs": [{
             "tool": {"driver": {"name": "urdf-inertia", "version": __version__,
-                                "informationUri": INFORMATION_URI,
                                 "rules": [_rule_json(r) for r in rules]}},
             "columnKind": "unicodeCodePoints",
             "results": results,
