@@ -15,7 +15,12 @@ from urdfinertia.cli.batch import (
     run_many,
     single_file_library,
 )
-from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args
+from urdfinertia.cli.options import (
+    add_common_geometry_arguments,
+    add_engine_arguments,
+    engine_request,
+    options_from_args,
+)
 from urdfinertia.errors import OutputError, UrdfInertiaError
 from urdfinertia.link.fix import fix_file
 
@@ -44,6 +49,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     from urdfinertia.cli import writeback
 
     writeback.add_arguments(p)
+    add_engine_arguments(p)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -57,6 +63,8 @@ def run(args: argparse.Namespace) -> int:
     elif is_batch(args):
         if getattr(args, "write_back", False):
             raise UrdfInertiaError("--write-back takes a single xacro file")
+        if engine_request(args) is not None:
+            raise UrdfInertiaError("--engines takes a single URDF file")
         return run_many(args, options)
     else:
         meshes = single_file_library(args, options)
@@ -95,7 +103,26 @@ def run(args: argparse.Namespace) -> int:
             writeback.print_summary(plan, console)
     if args.output is None and not args.in_place and plan is None:
         sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
-    return 0
+    return engine_regressions(args, result, options)
+
+
+def engine_regressions(args: argparse.Namespace, result, options) -> int:
+    """``--engines``: load input and output in each engine; 1 if the output fares worse."""
+    engines = engine_request(args)
+    if engines is None:
+        return 0
+    from urdfinertia.engines.run import outcome_summary, regressions
+
+    before = engines.outcomes(args.urdf, result.robot, options.package_dirs)
+    after = engines.outcomes(args.urdf, result.robot, options.package_dirs,
+                             data=result.output)
+    for name, old in before.items():
+        print(f"{args.urdf}: {name}: input {outcome_summary(old)}, output "
+              f"{outcome_summary(after[name])}", file=sys.stderr)
+    worse = regressions(before, after)
+    for f in worse:
+        print(f"{args.urdf}: {f.severity}: {f.message}", file=sys.stderr)
+    return 1 if any(f.severity == "error" for f in worse) else 0
 
 
 __all__ = ["add_arguments", "run", "UrdfInertiaError"]

@@ -107,3 +107,35 @@ def configure_descriptions(args: argparse.Namespace) -> None:
 
     configure(dict(getattr(args, "xacro_arg", None) or []),
               dict(getattr(args, "package_dir", None) or []))
+
+
+def engine_list(text: str) -> tuple[str, ...]:
+    from urdfinertia.engines.run import parse_engines
+
+    try:
+        return parse_engines(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def add_engine_arguments(p: argparse.ArgumentParser) -> None:
+    """``--engines``: load and step in simulators (check, and fix on its output)."""
+    p.add_argument("--engines", type=engine_list, metavar="LIST",
+                   help="also load the description in these engines (mujoco, pinocchio, "
+                        "pybullet, or all) and step a passive run; an engine that is not "
+                        "installed is a note (pip install 'urdfinertia[engines]')")
+    p.add_argument("--engine-seconds", type=positive_float, default=2.0, metavar="S",
+                   help="simulated seconds of the passive run (default 2)")
+    p.add_argument("--engine-timeout", type=positive_float, default=120.0, metavar="S",
+                   help="wall-clock seconds an engine may take per file before it counts "
+                        "as hung (default 120)")
+
+
+def engine_request(args: argparse.Namespace):
+    """The :class:`~urdfinertia.engines.EngineCheck` the arguments ask for, or None."""
+    if not getattr(args, "engines", None):
+        return None
+    from urdfinertia.engines.run import EngineCheck
+
+    return EngineCheck(args.engines, seconds=args.engine_seconds,
+                       timeout=args.engine_timeout)

@@ -141,3 +141,20 @@ def read_description(path: str | Path, *, lenient: bool = False) -> tuple[Robot,
     fmt = detect_format(data, Path(path))
     robot = (fmt.read_lenient if lenient else fmt.read)(data, Path(path))
     return robot, (fmt.expand(data, Path(path)) if fmt.expand is not None else data)
+
+
+def is_description(data: bytes, path: str | Path) -> bool:
+    """Whether a registered format takes this file by both its suffix and its root element.
+
+    For callers handed every ``*.xml`` (or ``*.xacro``, ``*.sdf``) of a repository, such as
+    the pre-commit hook: a ROS ``package.xml`` or a launch file is not a description, and a
+    format that is not registered yet is not read as URDF.
+    """
+    _load_builtin()
+    suffix = Path(path).suffix.lower()
+    root = root_name(data)
+    for fmt in _FORMATS.values():
+        if suffix in fmt.suffixes and root in fmt.roots:
+            if fmt.claims is None or fmt.claims(data, Path(path)):
+                return True
+    return False

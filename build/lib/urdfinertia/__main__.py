@@ -1,0 +1,7 @@
+"""``python -m urdfinertia``: the ``urdf-inertia`` command."""
+
+import sys
+
+from urdfinertia.cli import main
+
+sys.exit(main())

@@ -1,0 +1,178 @@
+"""Per-element and per-part breakdown of one link: the paper's section 5 analysis.
+
+For every element p and part q of a link: its mass, its centre of mass in the link frame,
+its tensor about its own centre of mass (``I_sp``, eq. 39) and about the link's centre of
+mass (``I_p,s``, eq. 43, Huygens-Steiner), and its share of each principal moment of the
+link: ``e_k^T I_p,s e_k / lambda_k`` for the link's principal axes e_k and moments
+lambda_k. Since ``sum_p I_p,s = I_s`` (eq. 44), the shares of all elements add up to 1 on
+every axis. Cavities have negative mass and negative shares.
+
+No printing here: :mod:`urdfinertia.render.table` renders a :class:`Breakdown`,
+:func:`breakdown_dict` makes it JSON-ready.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.descriptions.model import Robot
+from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.inertia.massprops import MassProperties, combine
+from urdfinertia.link.assemble import PartResult
+from urdfinertia.link.fix import compute_link
+from urdfinertia.link.options import FixOptions
+from urdfinertia.link.results import LinkResult
+
+
+@dataclass(frozen=True, eq=False)
+class Contribution:
+    """One element or part, in the link frame.
+
+    mass : float
+        kg, negative for a cavity.
+    com : (3,) float or None
+        Centre of mass in the link frame, m (None when an element's masses cancel).
+    inertia_own : (3, 3) float or None
+        ``I_sp``: about its own centre of mass along the link axes, kg m^2.
+    inertia_link : (3, 3) float
+        ``I_p,s``: about the link's centre of mass along the link axes, kg m^2.
+    share : (3,) float
+        Fraction of each principal moment of the link (ascending order of moments).
+    """
+
+    name: str
+    mass: float
+    com: np.ndarray | None
+    inertia_own: np.ndarray | None
+    inertia_link: np.ndarray
+    share: np.ndarray
+    volume: float
+    density: float | None = None  # kg/m^3, parts only
+    method: str = ""
+    cavity: bool = False
+
+
+@dataclass(frozen=True, eq=False)
+class ElementBreakdown:
+    element: Contribution
+    parts: tuple[Contribution, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class Breakdown:
+    """A link's total and its elements' and parts' contributions."""
+
+    link: str
+    geometry: str  # "spec" | "collision" | "visual"
+    mass_source: str
+    total: MassProperties
+    moments: np.ndarray  # (3,) principal moments, ascending, kg m^2
+    axes: np.ndarray  # (3, 3) principal axes as columns, in the link frame
+    elements: tuple[ElementBreakdown, ...]
+    warnings: tuple[str, ...] = ()
+
+
+def _share(inertia_link: np.ndarray, moments: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    projected = np.einsum("ik,ij,jk->k", axes, inertia_link, axes)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(moments > 0, projected / np.where(moments > 0, moments, 1.0), 0.0)
+
+
+def _contribution(name: str, bodies: Sequence[MassProperties], link_com: np.ndarray,
+                  moments: np.ndarray, axes: np.ndarray, volume: float, **extra: Any,
+                  ) -> Contribution:
+    inertia_link = sum((b.about(link_com) for b in bodies), np.zeros((3, 3)))
+    try:
+        own: MassProperties | None = combine(bodies)
+    except ValueError:  # masses cancel: no centre of mass
+        own = None
+    mass = float(sum(b.mass for b in bodies))
+    return Contribution(name, mass, None if own is None else own.com,
+                        None if own is None else own.inertia, inertia_link,
+                        _share(inertia_link, moments, axes), volume, **extra)
+
+
+def link_breakdown(result: LinkResult) -> Breakdown:
+    """The breakdown of a recomputed link (elements in first-seen order)."""
+    if result.assembly is None:
+        raise UrdfInertiaError("link has no geometry and no spec entry: nothing to explain",
+                               link=result.name)
+    total = result.assembly.total
+    moments, axes = total.principal()
+    groups: dict[str, list[PartResult]] = {}
+    for pr in result.assembly.parts:
+        groups.setdefault(pr.part.element, []).append(pr)
+    elements = []
+    for name, prs in groups.items():
+        parts = tuple(
+            _contribution(pr.part.name, [pr.mass_properties], total.com, moments, axes,
+                          -pr.part.volume if pr.part.cavity else pr.part.volume,
+                          density=pr.density, method=pr.part.method, cavity=pr.part.cavity)
+            for pr in prs)
+        element = _contribution(name, [pr.mass_properties for pr in prs], total.com, moments,
+                                axes, sum(p.volume for p in parts))
+        elements.append(ElementBreakdown(element, parts))
+    return Breakdown(result.name, result.geometry, result.assembly.mass_source, total, moments,
+                     axes, tuple(elements), result.warnings)
+
+
+def explain_link(robot: Robot, name: str, options: FixOptions,
+                 meshes: MeshLibrary | None = None) -> Breakdown:
+    """Compute link ``name`` of ``robot`` as ``fix`` would and break it down."""
+    path = robot.path or Path("robot.urdf")
+    names = [link.name for link in robot.links]
+    if name not in names:
+        raise UrdfInertiaError(f"no link named '{name}' (links: {', '.join(names)})",
+                               file=path)
+    if options.spec is not None:
+        options.spec.check_links(robot)  # type: ignore[attr-defined]
+    if meshes is None:
+        meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    link = robot.link(name)
+    try:
+        result = compute_link(link, options, meshes, path.parent)
+        return link_breakdown(result)
+    except UrdfInertiaError as exc:
+        raise exc.with_context(file=path, link=name) from None
+
+
+def _tensor(t: np.ndarray | None) -> dict[str, float] | None:
+    if t is None:
+        return None
+    return {"ixx": t[0, 0], "iyy": t[1, 1], "izz": t[2, 2],
+            "ixy": t[0, 1], "ixz": t[0, 2], "iyz": t[1, 2]}
+
+
+def contribution_dict(c: Contribution) -> dict[str, Any]:
+    out: dict[str, Any] = {
+        "name": c.name, "mass": c.mass, "volume": c.volume,
+        "com": None if c.com is None else c.com.tolist(),
+        "inertia_about_own_com": _tensor(c.inertia_own),
+        "inertia_about_link_com": _tensor(c.inertia_link),
+        "share_of_principal_moments": c.share.tolist(),
+    }
+    if c.method:
+        out.update(density=c.density, method=c.method, cavity=c.cavity)
+    return out
+
+
+def breakdown_dict(b: Breakdown) -> dict[str, Any]:
+    """JSON-ready view; tensors use the URDF sign convention, link frame axes."""
+    return {
+        "link": b.link,
+        "geometry": b.geometry,
+        "mass_source": b.mass_source,
+        "total": {"mass": b.total.mass, "com": b.total.com.tolist(),
+                  "inertia": _tensor(b.total.inertia),
+                  "principal_moments": b.moments.tolist(),
+                  "principal_axes": b.axes.T.tolist()},
+        "elements": [{**contribution_dict(e.element),
+                      "parts": [contribution_dict(p) for p in e.parts]} for e in b.elements],
+        "warnings": list(b.warnings),
+    }

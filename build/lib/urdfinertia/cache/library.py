@@ -1,0 +1,194 @@
+"""Resolve, read and integrate each mesh file once per run (and once ever, with a cache)."""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping
+from pathlib import Path
+
+from urdfinertia.cache.store import SolidsCache, file_entry_key
+from urdfinertia.descriptions.paths import RealPaths, resolve_mesh_path
+from urdfinertia.errors import MeshError
+from urdfinertia.mesh.limits import DEFAULT_MAX_FACES, max_mesh_bytes
+from urdfinertia.mesh.read.load import TriangleMesh, load_mesh
+from urdfinertia.mesh.repair.pipeline import repair_mesh
+from urdfinertia.mesh.solids import MeshSolids, integrate_repaired
+from urdfinertia.timing import StageTimes
+
+
+def integrate_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> MeshSolids:
+    """Repair and integrate ``mesh``, timing repair, boolean unions and integration apart."""
+    timer = timer if timer is not None else StageTimes()
+    unions = StageTimes()
+    with timer.stage("repair"):
+        repaired = repair_mesh(mesh, unions)
+    timer.add("repair", -unions.get("union"))  # counted on its own below
+    timer.merge(unions)
+    with timer.stage("integration"):
+        return integrate_repaired(repaired)
+
+
+def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
+    """The error :func:`load_mesh` raises, for a cache hit over the limit."""
+    return MeshError(f"mesh {path} has {faces} faces, more than the limit "
+                     f"{max_faces} (raise it with --max-faces)")
+
+
+def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
+                     cache: SolidsCache | None = None,
+                     timer: StageTimes | None = None) -> MeshSolids:
+    """Unscaled solids of one mesh file, from ``cache`` when it holds them.
+
+    Raises
+    ------
+    MeshError
+        The file cannot be read, parsed or integrated, or has more than ``max_faces``
+        faces (also on a cache hit: the cache never changes what is accepted).
+    """
+    timer = timer if timer is not None else StageTimes()
+    key = None
+    if cache is not None and cache.enabled:
+        with timer.stage("cache"):
+            key = file_entry_key(path, max_mesh_bytes(max_faces), cache.digests)
+            hit = cache.get(key) if key is not None else None
+        if hit is not None:
+            found, faces = hit
+            if faces > max_faces:
+                raise too_many_faces(path, faces, max_faces)
+            if isinstance(found, MeshError):
+                raise MeshError(found.cause)
+            return found
+    with timer.stage("mesh read"):
+        mesh = load_mesh(path, max_faces)
+    try:
+        found: MeshSolids | MeshError = integrate_mesh(mesh, timer)
+    except MeshError as exc:
+        found = exc
+    if cache is not None and key is not None and cacheable(found, path):
+        with timer.stage("cache"):
+            cache.put(key, found, len(mesh.faces))
+    if isinstance(found, MeshError):
+        raise found
+    return found
+
+
+def cacheable(outcome: MeshSolids | Exception, path: Path) -> bool:
+    """Solids, or a repair error that depends on the bytes only (names no path)."""
+    if isinstance(outcome, MeshSolids):
+        return True
+    return (isinstance(outcome, MeshError) and outcome.file is None
+            and str(path) not in outcome.cause and path.name not in outcome.cause)
+
+
+def fresh(exc: Exception) -> Exception:
+    """A new exception equal to ``exc`` with its own attributes (context is added per use).
+
+    ``copy.copy`` is not enough: libraries such as tblib (loaded by dask) change how
+    exceptions reduce, and the copy may then share its ``__dict__``.
+    """
+    new = copy.copy(exc)
+    new.__dict__ = dict(exc.__dict__)
+    return new
+
+
+class MeshLibrary:
+    """Mesh solids by URI, memoised by resolved file path for the life of the object.
+
+    One library is shared by all links of a run, so a mesh referenced by several links
+    (left and right legs, mirrored parts) is read and integrated once; a mesh that cannot
+    be used fails once and its error is repeated (results and errors computed by other
+    processes are handed in with :meth:`seed`). With a :class:`SolidsCache`, results
+    also persist between runs. ``timer`` collects the mesh stages' wall time.
+    """
+
+    def __init__(
+        self,
+        package_dirs: Mapping[str, Path] | None = None,
+        max_faces: int = DEFAULT_MAX_FACES,
+        cache: SolidsCache | None = None,
+        timer: StageTimes | None = None,
+    ) -> None:
+        self.package_dirs = dict(package_dirs or {})
+        self.max_faces = max_faces
+        self.cache = cache
+        self.timer = timer if timer is not None else StageTimes()
+        self._memo: dict[Path, MeshSolids | Exception] = {}
+        self._resolved: dict[tuple[str, Path], Path | MeshError] = {}
+        self._records: dict[tuple[str, Path], tuple[str, str, str]] = {}
+        self._real_path = RealPaths()
+        self._keys: dict[Path, Path] = {}
+        #: When a list, every :meth:`resolve` appends (uri, urdf_dir, path), both resolved
+        #: (path "" when the URI does not resolve): what a file's result depends on
+        #: (:mod:`urdfinertia.batch.file_cache`).
+        self.trace: list[tuple[str, str, str]] | None = None
+
+    def resolve(self, uri: str, urdf_dir: Path) -> Path:
+        """The file ``uri`` names, memoised: package lookups walk up folders and read files."""
+        key = (uri, urdf_dir)
+        found = self._resolved.get(key)
+        if found is None:
+            try:
+                found = resolve_mesh_path(uri, urdf_dir, self.package_dirs)
+            except MeshError as exc:
+                found = exc
+            self._resolved[key] = found
+        if self.trace is not None:
+            self.trace.append(self._record(key, found))
+        if isinstance(found, MeshError):
+            raise fresh(found)
+        return found
+
+    def _record(self, key: tuple[str, Path], found: Path | MeshError) -> tuple[str, str, str]:
+        """The trace entry of a resolution, memoised (absolute: it must not depend on the
+        working folder)."""
+        record = self._records.get(key)
+        if record is None:
+            uri, urdf_dir = key
+            record = (uri, self._real_path(urdf_dir),
+                      "" if isinstance(found, MeshError) else self._real_path(found))
+            self._records[key] = record
+        return record
+
+    def _key(self, path: Path) -> Path:
+        """``path.resolve()``, memoised: the key of :attr:`_memo`."""
+        key = self._keys.get(path)
+        if key is None:
+            key = self._keys[path] = Path(self._real_path(path))
+        return key
+
+    def seed(self, path: Path, outcome: MeshSolids | Exception) -> None:
+        """Record a result computed elsewhere (another process) for the file at ``path``."""
+        self._memo[self._key(Path(path))] = outcome
+
+    def known(self, path: Path) -> bool:
+        return self._key(Path(path)) in self._memo
+
+    def solids(self, path: Path) -> MeshSolids:
+        """Unscaled solids of the mesh file at ``path``."""
+        key = self._key(path)
+        found = self._memo.get(key)
+        if found is None:
+            try:
+                found = mesh_file_solids(key, self.max_faces, self.cache, self.timer)
+            except Exception as exc:  # noqa: BLE001 - bugs too are repeated like any failure
+                found = exc
+            self._memo[key] = found
+        if isinstance(found, Exception):
+            exc = fresh(found)  # callers add context to the exception they get
+            if isinstance(exc, MeshError) and path.name not in exc.cause:
+                # the file/line context is the URDF's (added by the caller); name the mesh
+                # in the cause instead
+                exc.cause = f"mesh {path}: {exc.cause}"
+                exc.args = (exc.cause,)
+            raise exc
+        return found
+
+    def failed_for_bytes_only(self, trace: list[tuple[str, str, str]]) -> bool:
+        """True when no mesh of ``trace`` (see :attr:`trace`) failed for a reason other
+        than its bytes (:func:`cacheable`): a file error then depends on its inputs alone."""
+        for _, _, path in trace:
+            if path:
+                found = self._memo.get(Path(path))
+                if isinstance(found, Exception) and not cacheable(found, Path(path)):
+                    return False
+        return True

@@ -1,0 +1,162 @@
+"""``urdf-inertia check``: lint inertials as written; exit 1 when problems are found.
+
+Exit codes: 0 clean, 1 errors (or warnings with ``--strict``) that a ``--baseline`` does
+not know, 2 unreadable input (any :class:`UrdfInertiaError`, printed as one line by
+:mod:`cli`). ``--write-baseline`` exits 0: everything found is then known.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections import Counter
+from pathlib import Path
+
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from urdfinertia.analysis.baseline import Baseline, write_baseline
+from urdfinertia.analysis.check import SEVERITIES, Finding, check_robot
+from urdfinertia.analysis.locate import CheckedFile, locate_all
+from urdfinertia.atomic import atomic_write_bytes
+from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cli.options import (
+    add_engine_arguments,
+    add_geometry_source_arguments,
+    engine_request,
+)
+from urdfinertia.descriptions.formats import is_description, read_bytes, robot_from_bytes
+from urdfinertia.link.options import FixOptions
+from urdfinertia.render.annotations import annotation_lines
+from urdfinertia.render.sarif import sarif_document
+
+FORMATS = ("text", "json", "sarif", "github")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("urdf", type=Path, nargs="+", help="the description file(s) to check")
+    p.add_argument("--format", choices=FORMATS, default="text",
+                   help="what goes to stdout: text (tables), json, sarif (SARIF 2.1.0) or "
+                        "github (workflow annotations) (default: text)")
+    p.add_argument("--json", type=Path, metavar="PATH", help="write the findings as JSON")
+    p.add_argument("--sarif", type=Path, metavar="PATH", help="write the findings as SARIF")
+    p.add_argument("--baseline", type=Path, metavar="FILE",
+                   help="findings recorded here (by rule, file and link) are known: shown, "
+                        "but they do not fail the run")
+    p.add_argument("--write-baseline", type=Path, metavar="FILE",
+                   help="record every error and warning found as the new baseline (exit 0)")
+    p.add_argument("--strict", action="store_true", help="warnings also make the exit code 1")
+    p.add_argument("--no-geometry", action="store_true",
+                   help="check the written values only; read no mesh (skips CoM-in-box, "
+                        "density and tensor-size checks)")
+    p.add_argument("--show-info", action="store_true",
+                   help="also list info findings (lumped masses, massless frames)")
+    p.add_argument("--skip-unknown-formats", action="store_true",
+                   help="skip files no registered format takes by suffix and root element "
+                        "(package.xml, launch files): for hooks handed every *.xml")
+    add_engine_arguments(p)
+    add_geometry_source_arguments(p)
+    p.add_argument("-q", "--quiet", action="store_true", help="print only the summary line")
+
+
+def exit_code(findings: list[Finding], strict: bool) -> int:
+    bad = {"error", "warning"} if strict else {"error"}
+    return 1 if any(f.severity in bad for f in findings) else 0
+
+
+def run(args: argparse.Namespace) -> int:
+    options = FixOptions(geometry=args.geometry, package_dirs=dict(args.package_dir),
+                         max_faces=args.max_faces)
+    meshes = None if args.no_geometry else MeshLibrary(options.package_dirs, options.max_faces)
+    baseline = (Baseline.load(args.baseline) if args.baseline is not None
+                else Baseline.empty(Path.cwd()))
+    engines = engine_request(args)
+    checked: list[CheckedFile] = []
+    for path in args.urdf:
+        data = read_bytes(path)
+        if args.skip_unknown_formats and not is_description(data, path):
+            continue
+        robot = robot_from_bytes(data, path, lenient=True)
+        findings = check_robot(robot, meshes=meshes, options=options)
+        if engines is not None:
+            findings += engines.findings(path, robot, options.package_dirs)
+        checked.append(CheckedFile(path, robot, findings, locate_all(robot, data, findings),
+                                   baseline.mark(findings, path)))
+    code = max((exit_code(cf.new, args.strict) for cf in checked), default=0)
+    if args.write_baseline is not None:
+        n = write_baseline(args.write_baseline, [(cf.path, cf.findings) for cf in checked])
+        print(f"{args.write_baseline}: baseline of {n} finding(s) written", file=sys.stderr)
+        code = 0
+    doc = json_document(checked, code, args.strict)
+    sarif = sarif_document(checked, with_baseline=args.baseline is not None,
+                           include_info=args.show_info)
+    if args.json is not None:
+        atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
+    if args.sarif is not None:
+        atomic_write_bytes(args.sarif, json.dumps(sarif, indent=2).encode())
+    print_report(args, checked, doc, sarif)
+    return code
+
+
+def print_report(args: argparse.Namespace, checked: list[CheckedFile], doc: dict,
+                 sarif: dict) -> None:
+    if args.format == "json":
+        print(json.dumps(doc, indent=2))
+    elif args.format == "sarif":
+        print(json.dumps(sarif, indent=2))
+    elif args.format == "github":
+        for line in annotation_lines(checked, include_info=args.show_info):
+            print(line)
+    # the summary goes to stderr when stdout carries a document
+    console = Console(width=170, stderr=args.format in ("json", "sarif"))
+    for cf in checked:
+        if args.format == "text" and not args.quiet:
+            shown = [(f, k) for f, k in zip(cf.findings, cf.known, strict=True)
+                     if args.show_info or f.severity != "info"]
+            if shown:
+                console.print(findings_table(shown, f"{cf.path}: {cf.robot.name}"))
+        if not (args.quiet and args.format != "text"):
+            console.print(summary_line(str(cf.path), len(cf.robot.links), cf.findings,
+                                       sum(cf.known)), markup=False, highlight=False)
+
+
+def json_document(checked: list[CheckedFile], code: int, strict: bool) -> dict:
+    report = []
+    for cf in checked:
+        rows = [{**vars(f), "rule": f.rule.id, "line": loc.line, "column": loc.column,
+                 "known": known}
+                for f, loc, known in zip(cf.findings, cf.locations, cf.known, strict=True)]
+        report.append({"file": str(cf.path), "robot": cf.robot.name,
+                       "links": len(cf.robot.links), "counts": severity_counts(cf.findings),
+                       "findings": rows})
+    return {"exit_code": code, "strict": strict, "files": report}
+
+
+def severity_counts(findings: list[Finding]) -> dict[str, int]:
+    counts = Counter(f.severity for f in findings)
+    return {s: counts.get(s, 0) for s in SEVERITIES}
+
+
+def summary_line(path: str, n_links: int, findings: list[Finding], known: int = 0) -> str:
+    c = severity_counts(findings)
+    codes = Counter(f.code for f in findings if f.severity != "info")
+    top = ", ".join(f"{code} x{n}" for code, n in codes.most_common(4))
+    base = f" ({known} known from the baseline)" if known else ""
+    return (f"{path}: {n_links} links, {c['error']} error(s), {c['warning']} warning(s), "
+            f"{c['info']} info{base}{': ' + top if top else ''}")
+
+
+def findings_table(findings: list[tuple[Finding, bool]], title: str) -> Table:
+    """Findings with whether each is known from a baseline (known ones are dimmed)."""
+    table = Table(title=title)
+    for col in ("link", "severity", "code", "message"):
+        table.add_column(col, overflow="fold")
+    style = {"error": "red", "warning": "yellow", "info": "cyan"}
+    order = {s: i for i, s in enumerate(SEVERITIES)}
+    for f, known in sorted(findings, key=lambda fk: order[fk[0].severity]):
+        severity = f"[{style[f.severity]}]{f.severity}[/]" + (" (known)" if known else "")
+        table.add_row(f.link or "-", severity, f"{f.code} ({f.rule.id})", escape(f.message),
+                      style="dim" if known else None)
+    return table

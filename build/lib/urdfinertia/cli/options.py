@@ -1,0 +1,125 @@
+"""Every option and argument type shared by more than one subcommand: one home each."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from urdfinertia.link.options import GEOMETRY_MODES, MASS_MODES, FixOptions
+from urdfinertia.mesh.limits import BYTES_PER_FACE, DEFAULT_MAX_FACES
+
+
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1: {text!r}")
+    return value
+
+
+def package_dir(text: str) -> tuple[str, Path]:
+    name, sep, path = text.partition("=")
+    if not sep or not name or not path:
+        raise argparse.ArgumentTypeError(f"expected NAME=PATH, got {text!r}")
+    return name, Path(path)
+
+
+#: Upper bound of --density, kg/m^3: the densest element (osmium) is 22,590; a larger value
+#: is a unit slip (g/cm^3 read as kg/m^3 goes the other way, but 1e6+ is never a material).
+MAX_DENSITY = 1e6
+
+
+def density_value(text: str) -> float:
+    value = positive_float(text)
+    if value > MAX_DENSITY:
+        raise argparse.ArgumentTypeError(f"{text} kg/m^3 is denser than any material "
+                                         f"(limit {MAX_DENSITY:g})")
+    return value
+
+
+def positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (value > 0 and value != float("inf")):
+        raise argparse.ArgumentTypeError(f"must be positive and finite: {text!r}")
+    return value
+
+
+def add_geometry_source_arguments(p: argparse.ArgumentParser) -> None:
+    """Which geometry, where packages are, how large a mesh: every command reading meshes."""
+    p.add_argument("--geometry", choices=GEOMETRY_MODES, default="auto",
+                   help="geometry to use: auto = collision when the link has any, "
+                        "else visual (default: auto)")
+    p.add_argument("--package-dir", type=package_dir, action="append", default=[],
+                   metavar="NAME=PATH", help="where package://NAME/ points (repeatable)")
+    p.add_argument("--max-faces", type=int, default=DEFAULT_MAX_FACES, metavar="N",
+                   help=f"refuse meshes with more faces, or mesh files larger than "
+                        f"{BYTES_PER_FACE} bytes per face plus 1 MiB, before reading them "
+                        f"(default {DEFAULT_MAX_FACES})")
+
+
+def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
+    """Options shared by every command that computes from geometry."""
+    add_geometry_source_arguments(p)
+    p.add_argument("--mass", choices=MASS_MODES, default="keep",
+                   help="keep: keep a link's existing positive mass and take CoM and tensor "
+                        "from the geometry; density: mass = density x volume (default: keep)")
+    p.add_argument("--density", type=density_value, default=1000.0, metavar="KG_PER_M3",
+                   help="density for links without mass or with --mass density "
+                        "(kg/m^3, default 1000)")
+    p.add_argument("--spec", type=Path, metavar="TOML",
+                   help="decomposition spec: parts with known mass, density or material")
+
+
+def options_from_args(args: argparse.Namespace) -> FixOptions:
+    spec = None
+    if getattr(args, "spec", None) is not None:
+        from urdfinertia.link.spec import load_spec
+
+        spec = load_spec(args.spec)
+    return FixOptions(
+        geometry=args.geometry,
+        mass=args.mass,
+        density=args.density,
+        package_dirs=dict(args.package_dir),
+        max_faces=args.max_faces,
+        spec=spec,
+    )
+
+
+
+
+def engine_list(text: str) -> tuple[str, ...]:
+    from urdfinertia.engines.run import parse_engines
+
+    try:
+        return parse_engines(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def add_engine_arguments(p: argparse.ArgumentParser) -> None:
+    """``--engines``: load and step in simulators (check, and fix on its output)."""
+    p.add_argument("--engines", type=engine_list, metavar="LIST",
+                   help="also load the description in these engines (mujoco, pinocchio, "
+                        "pybullet, or all) and step a passive run; an engine that is not "
+                        "installed is a note (pip install 'urdfinertia[engines]')")
+    p.add_argument("--engine-seconds", type=positive_float, default=2.0, metavar="S",
+                   help="simulated seconds of the passive run (default 2)")
+    p.add_argument("--engine-timeout", type=positive_float, default=120.0, metavar="S",
+                   help="wall-clock seconds an engine may take per file before it counts "
+                        "as hung (default 120)")
+
+
+def engine_request(args: argparse.Namespace):
+    """The :class:`~urdfinertia.engines.EngineCheck` the arguments ask for, or None."""
+    if not getattr(args, "engines", None):
+        return None
+    from urdfinertia.engines.run import EngineCheck
+
+    return EngineCheck(args.engines, seconds=args.engine_seconds,
+                       timeout=args.engine_timeout)

@@ -1,0 +1,34 @@
+"""``urdf-inertia report``: write the self-contained HTML report of one URDF."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from urdfinertia.atomic import atomic_write_bytes
+from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args, positive_int
+from urdfinertia.render.report import build_report
+from urdfinertia.render.scene import DEFAULT_VIEW_FACES, VIEW_MODES
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("urdf", type=Path, help="the URDF to report on")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="HTML",
+                   help="write the report here (one self-contained file, works offline)")
+    add_common_geometry_arguments(p)
+    p.add_argument("--view", choices=VIEW_MODES, default="visual",
+                   help="geometry drawn in the 3-D view (a link without it shows the other; "
+                        "default visual)")
+    p.add_argument("--view-faces", type=positive_int, default=DEFAULT_VIEW_FACES, metavar="N",
+                   help="face budget of the 3-D view; meshes are decimated to share it "
+                        f"(display only, default {DEFAULT_VIEW_FACES})")
+
+
+def run(args: argparse.Namespace) -> int:
+    options = options_from_args(args)
+    page = build_report(args.urdf, options, view=args.view, face_budget=args.view_faces)
+    data = page.encode("utf-8")
+    atomic_write_bytes(args.output, data)
+    print(f"wrote {args.output} ({len(data) / 1e6:.1f} MB)", file=sys.stderr)
+    return 0

@@ -1,0 +1,154 @@
+"""Description formats as siblings behind one robot model (meshio's ``register_format``).
+
+Each format (URDF today; SDFormat, MJCF and xacro beside it) lives in its own subpackage of
+:mod:`urdfinertia.descriptions` and registers a :class:`DescriptionFormat`: how to read a
+document's bytes into the shared :class:`~urdfinertia.descriptions.model.Robot` (strictly
+for ``fix``, leniently for the linters) and how to splice new inertials into the same bytes.
+Everything above this layer calls :func:`read_description` and :func:`format_of`, and never
+imports a format by name. A format converts its own conventions (SDF poses, MJCF half
+sizes and quaternions) to the model's at the edge: SI units, inertia about the CoM along
+the inertial origin's axes, URDF's sign convention for products of inertia.
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from urdfinertia.errors import UrdfError
+
+if TYPE_CHECKING:
+    from urdfinertia.descriptions.model import Robot
+    from urdfinertia.inertia.massprops import MassProperties
+
+#: New inertials for :attr:`DescriptionFormat.patch`: link name -> (mass properties in the
+#: link frame, the link's length scale in m, below which round-off is written as 0).
+NewInertials = Mapping[str, "tuple[MassProperties, float]"]
+
+
+@dataclass(frozen=True)
+class DescriptionFormat:
+    """One description format: how to read it and how to write inertials back into it.
+
+    name : short name, also :attr:`Robot.format` of what it reads ("urdf", "sdf", ...).
+    roots : root element names that identify the format (``robot``, ``sdf``, ``mujoco``).
+    suffixes : file suffixes, lower case, used when the root element does not decide.
+    read : (bytes, path) -> Robot; strict: refuses what ``fix`` cannot compute from.
+    read_lenient : (bytes, path) -> Robot; keeps non-finite and odd values for the linters.
+    patch : (bytes, new inertials) -> bytes; changes nothing but the inertial elements.
+    """
+
+    name: str
+    roots: tuple[str, ...]
+    suffixes: tuple[str, ...]
+    read: Callable[[bytes, Path], Robot]
+    read_lenient: Callable[[bytes, Path], Robot]
+    patch: Callable[[bytes, NewInertials], bytes]
+    #: decides a file whose root element is shared with another format (xacro's <robot>)
+    claims: Callable[[bytes, Path], bool] | None = None
+
+
+_FORMATS: dict[str, DescriptionFormat] = {}
+#: Modules that register the built-in formats when first imported.
+_BUILTIN = ("urdfinertia.descriptions.urdf",)
+#: Bytes searched for the root element (comments and a DOCTYPE may come first).
+_SNIFF_BYTES = 1 << 16
+_PROLOG = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s+|<\?.*?\?>|<!--.*?-->|<![^>]*>)*", re.S)
+_ROOT = re.compile(rb"<([A-Za-z_][\w.\-]*:)?([A-Za-z_][\w.\-]*)")
+
+
+def register_format(fmt: DescriptionFormat) -> None:
+    """Add ``fmt``; a later registration of the same name replaces the earlier one."""
+    _FORMATS[fmt.name] = fmt
+
+
+def registered_formats() -> tuple[DescriptionFormat, ...]:
+    _load_builtin()
+    return tuple(_FORMATS.values())
+
+
+def _load_builtin() -> None:
+    for module in _BUILTIN:
+        importlib.import_module(module)
+
+
+def format_of(robot: Robot) -> DescriptionFormat:
+    """The format that read ``robot`` (and so writes its inertials)."""
+    _load_builtin()
+    return _FORMATS[robot.format]
+
+
+def root_name(data: bytes) -> str | None:
+    """Local name of the document's root element, without parsing the document."""
+    head = data[:_SNIFF_BYTES]
+    prolog = _PROLOG.match(head)
+    found = _ROOT.match(head, prolog.end() if prolog else 0)
+    return found.group(2).decode("ascii") if found else None
+
+
+def detect_format(data: bytes, path: Path) -> DescriptionFormat:
+    """The registered format of a document: its root element, then its suffix."""
+    _load_builtin()
+    root = root_name(data)
+    by_root = [f for f in _FORMATS.values() if root in f.roots]
+    claimed = [f for f in by_root if f.claims is not None and f.claims(data, path)]
+    if claimed:
+        return claimed[0]
+    unclaimed = [f for f in by_root if f.claims is None]
+    if unclaimed:
+        return unclaimed[0]
+    suffix = path.suffix.lower()
+    for fmt in _FORMATS.values():
+        if suffix in fmt.suffixes:
+            return fmt
+    return _FORMATS["urdf"]  # its reader names what is wrong with the document
+
+
+def read_bytes(path: str | Path) -> bytes:
+    """A description's bytes (at most one past the size limit), or a :class:`UrdfError`."""
+    from urdfinertia.descriptions import xml
+
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:  # one byte more than the limit tells it is exceeded
+            return fh.read(xml.MAX_DOCUMENT_BYTES + 1)
+    except OSError as exc:
+        raise UrdfError(f"cannot read: {exc.strerror or exc}", file=path) from None
+
+
+def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) -> Robot:
+    """The robot model of a description's bytes, in whatever registered format it is."""
+    path = Path(path)
+    fmt = detect_format(data, path)
+    return (fmt.read_lenient if lenient else fmt.read)(data, path)
+
+
+def read_description(path: str | Path, *, lenient: bool = False) -> tuple[Robot, bytes]:
+    """Read a description file: its robot model and its original bytes.
+
+    ``lenient``: keep non-finite inertial values (as NaN/inf) for ``check`` and ``compare``
+    instead of refusing the file.
+    """
+    data = read_bytes(path)
+    return robot_from_bytes(data, path, lenient=lenient), data
+
+
+def is_description(data: bytes, path: str | Path) -> bool:
+    """Whether a registered format takes this file by both its suffix and its root element.
+
+    For callers handed every ``*.xml`` (or ``*.xacro``, ``*.sdf``) of a repository, such as
+    the pre-commit hook: a ROS ``package.xml`` or a launch file is not a description, and a
+    format that is not registered yet is not read as URDF.
+    """
+    _load_builtin()
+    suffix = Path(path).suffix.lower()
+    root = root_name(data)
+    for fmt in _FORMATS.values():
+        if suffix in fmt.suffixes and root in fmt.roots:
+            if fmt.claims is None or fmt.claims(data, Path(path)):
+                return True
+    return False

@@ -1,0 +1,75 @@
+"""Which links move, and which are welded together by fixed joints.
+
+Many simulators (Gazebo, MuJoCo's ``fusestatic``, Pinocchio's reduced models) merge links
+joined by fixed joints into one body, so what must be physical is often the merged body.
+A link "moves" when it is the child of a joint that is not fixed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from urdfinertia.descriptions.model import Joint, Robot
+
+
+@dataclass(frozen=True, eq=False)
+class FixedGroup:
+    """Links welded to ``root`` by fixed joints.
+
+    members : link names, root first.
+    poses : (4, 4) pose of each member's frame in the root's frame, same order.
+    """
+
+    root: str
+    members: tuple[str, ...]
+    poses: tuple[np.ndarray, ...]
+
+
+class Kinematics:
+    """Parent joints, moving links and fixed groups of a robot (tolerates broken trees)."""
+
+    def __init__(self, robot: Robot) -> None:
+        names = {link.name for link in robot.links}
+        self.parent_joint: dict[str, Joint] = {}
+        for joint in robot.joints:
+            if joint.child in names and joint.parent in names:
+                self.parent_joint.setdefault(joint.child, joint)
+        self._group_root: dict[str, str] = {}
+        self._pose_in_root: dict[str, np.ndarray] = {}
+        for link in robot.links:
+            self._walk_up(link.name)
+        members: dict[str, list[str]] = {}
+        for link in robot.links:
+            members.setdefault(self._group_root[link.name], []).append(link.name)
+        self.groups: dict[str, FixedGroup] = {}
+        for root, names_ in members.items():
+            ordered = [root] + [n for n in names_ if n != root]
+            self.groups[root] = FixedGroup(root, tuple(ordered),
+                                           tuple(self._pose_in_root[n] for n in ordered))
+
+    def _walk_up(self, name: str) -> None:
+        chain = []
+        seen = set()
+        cur = name
+        while cur not in self._group_root:
+            joint = self.parent_joint.get(cur)
+            if joint is None or joint.type != "fixed" or cur in seen:
+                self._group_root[cur] = cur
+                self._pose_in_root[cur] = np.eye(4)
+                break
+            seen.add(cur)
+            chain.append((cur, joint))
+            cur = joint.parent
+        for child, joint in reversed(chain):
+            parent = joint.parent
+            self._group_root[child] = self._group_root[parent]
+            self._pose_in_root[child] = self._pose_in_root[parent] @ joint.origin.matrix()
+
+    def moves(self, name: str) -> bool:
+        joint = self.parent_joint.get(name)
+        return joint is not None and joint.type != "fixed"
+
+    def group_of(self, name: str) -> FixedGroup:
+        return self.groups[self._group_root[name]]

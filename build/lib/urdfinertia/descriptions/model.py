@@ -1,0 +1,146 @@
+"""The parts of a URDF this tool reads: one frozen dataclass per XML element.
+
+Only what matters for inertia is kept. Every object remembers its source line so that
+errors and reports can point at it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from urdfinertia.inertia.rotation import pose_matrix
+
+
+@dataclass(frozen=True)
+class Origin:
+    """``<origin xyz rpy>``: a child frame's pose in its parent frame."""
+
+    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def matrix(self) -> np.ndarray:
+        """(4, 4) homogeneous transform, rotation ``Rz Ry Rx`` (paper eq. 15)."""
+        return pose_matrix(self.xyz, self.rpy)
+
+
+@dataclass(frozen=True)
+class Box:
+    size: tuple[float, float, float]  # full side lengths, m
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    radius: float
+    length: float  # full length along z, m
+
+
+@dataclass(frozen=True)
+class Sphere:
+    radius: float
+
+
+@dataclass(frozen=True)
+class Capsule:
+    radius: float
+    length: float  # cylindrical section along z, m
+
+
+@dataclass(frozen=True)
+class Ellipsoid:
+    radii: tuple[float, float, float]  # semi-axes along x, y, z, m
+
+
+@dataclass(frozen=True)
+class Mesh:
+    filename: str  # the URI as written
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+
+Shape = Box | Cylinder | Sphere | Capsule | Ellipsoid | Mesh
+
+
+@dataclass(frozen=True)
+class GeometryRef:
+    """One ``<collision>`` or ``<visual>`` of a link."""
+
+    role: str  # "collision" | "visual"
+    index: int  # position among the link's elements of that role
+    name: str | None
+    origin: Origin
+    shape: Shape
+    line: int | None = None
+    #: what the description itself states about the element's material (MJCF geom
+    #: ``density``/``mass``, SDF ``<density>``): kg/m^3 and kg, None when it says nothing
+    density: float | None = None
+    mass: float | None = None
+
+    @property
+    def label(self) -> str:
+        tag = f"{self.role}[{self.index}]"
+        return f"{tag} '{self.name}'" if self.name else tag
+
+
+@dataclass(frozen=True)
+class Inertial:
+    """``<inertial>`` as written: inertia about ``origin`` along the origin's axes."""
+
+    origin: Origin
+    mass: float
+    ixx: float
+    ixy: float
+    ixz: float
+    iyy: float
+    iyz: float
+    izz: float
+    line: int | None = None
+
+    def tensor(self) -> np.ndarray:
+        """(3, 3) tensor along the inertial origin's axes, URDF sign convention."""
+        return np.array([
+            [self.ixx, self.ixy, self.ixz],
+            [self.ixy, self.iyy, self.iyz],
+            [self.ixz, self.iyz, self.izz],
+        ])
+
+    def tensor_in_link(self) -> np.ndarray:
+        """(3, 3) tensor about the CoM along the link frame's axes."""
+        r = self.origin.matrix()[:3, :3]
+        return r @ self.tensor() @ r.T
+
+
+@dataclass(frozen=True)
+class Link:
+    name: str
+    collisions: tuple[GeometryRef, ...] = ()
+    visuals: tuple[GeometryRef, ...] = ()
+    inertial: Inertial | None = None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Joint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: Origin = field(default_factory=Origin)
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Robot:
+    name: str
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]
+    path: Path | None = None
+    #: the registered description format that read it ("urdf", ...): it also writes it
+    format: str = "urdf"
+
+    def link(self, name: str) -> Link:
+        for link in self.links:
+            if link.name == name:
+                return link
+        raise KeyError(name)

@@ -1,0 +1,33 @@
+"""URDF: strict and lenient reading into the robot model, byte-splicing of inertials.
+
+Registers the ``urdf`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` when
+imported (the registry imports it on first use).
+"""
+
+from __future__ import annotations
+
+from urdfinertia.descriptions.formats import DescriptionFormat, register_format
+
+
+def _read(data, path):  # noqa: ANN001, ANN202 - the format's signature
+    from urdfinertia.descriptions.urdf.read import robot_from_bytes
+
+    return robot_from_bytes(data, path)
+
+
+def _read_lenient(data, path):  # noqa: ANN001, ANN202
+    from urdfinertia.descriptions.urdf.lenient import robot_from_bytes_lenient
+
+    return robot_from_bytes_lenient(data, path)
+
+
+def _patch(data, new):  # noqa: ANN001, ANN202
+    from urdfinertia.descriptions.urdf.write import patch_inertials
+
+    return patch_inertials(data, new)
+
+
+register_format(DescriptionFormat(
+    name="urdf", roots=("robot",), suffixes=(".urdf",),
+    read=_read, read_lenient=_read_lenient, patch=_patch,
+))

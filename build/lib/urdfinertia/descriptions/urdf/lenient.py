@@ -1,0 +1,93 @@
+"""Inertials exactly as written, including values no simulator accepts.
+
+:func:`urdf_read.read_urdf` refuses non-finite numbers anywhere. A linter must instead
+report a ``nan`` or ``inf`` inside an ``<inertial>`` as a finding on its link, so
+:func:`read_urdf_lenient` reads the document the same way but lets non-finite values
+through inside ``<inertial>`` (into :class:`urdf_model.Inertial`, which holds plain
+floats). Anything else that is unreadable still raises :class:`UrdfError`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+from urdfinertia.descriptions.model import Origin, Robot
+from urdfinertia.descriptions.urdf.read import parse_xml, read_urdf_bytes, robot_from_element
+
+_INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+
+
+def read_urdf_lenient(path: str | Path) -> tuple[Robot, bytes]:
+    """Like :func:`urdf_read.read_urdf`, but non-finite inertial values are kept as NaN/inf."""
+    data = read_urdf_bytes(path)
+    return robot_from_bytes_lenient(data, path), data
+
+
+def robot_from_bytes_lenient(data: bytes, path: str | Path) -> Robot:
+    path = Path(path)
+    root = parse_xml(data, path)
+    kept: dict[str, dict[str, tuple[float, ...]]] = {}
+    for link_el in root.iterchildren("link"):
+        for inertial_el in link_el.iterchildren("inertial"):
+            found = _neutralise(inertial_el)
+            if found:
+                kept[link_el.get("name", "")] = found
+            break  # the reader uses the first <inertial> only
+    robot = robot_from_element(root, path)
+    if not kept:
+        return robot
+    links = tuple(_restore(link, kept[link.name]) if link.name in kept else link
+                  for link in robot.links)
+    return dataclasses.replace(robot, links=links)
+
+
+def _non_finite(text: str | None) -> tuple[float, ...] | None:
+    if text is None:
+        return None
+    try:
+        values = tuple(float(p) for p in text.split())
+    except ValueError:
+        return None  # not numbers at all: the strict reader reports it
+    return values if not all(math.isfinite(v) for v in values) else None
+
+
+def _neutralise(inertial_el) -> dict[str, tuple[float, ...]]:
+    """Replace non-finite numbers by zeros in the tree; return what they were."""
+    found: dict[str, tuple[float, ...]] = {}
+    for child in inertial_el:
+        if child.tag == "mass":
+            keys = ("value",)
+        elif child.tag == "inertia":
+            keys = _INERTIA_KEYS
+        elif child.tag == "origin":
+            keys = ("xyz", "rpy")
+        else:
+            continue
+        for key in keys:
+            values = _non_finite(child.get(key))
+            if values is not None:
+                found[f"{child.tag}.{key}"] = values
+                child.set(key, " ".join("0" for _ in values))
+    return found
+
+
+def _restore(link, found: dict[str, tuple[float, ...]]):
+    inertial = link.inertial
+    if inertial is None:
+        return link
+    changes: dict[str, object] = {}
+    origin = inertial.origin
+    if "origin.xyz" in found:
+        origin = dataclasses.replace(origin, xyz=found["origin.xyz"])
+    if "origin.rpy" in found:
+        origin = dataclasses.replace(origin, rpy=found["origin.rpy"])
+    if origin is not inertial.origin:
+        changes["origin"] = Origin(origin.xyz, origin.rpy)
+    if "mass.value" in found:
+        changes["mass"] = found["mass.value"][0]
+    for key in _INERTIA_KEYS:
+        if f"inertia.{key}" in found:
+            changes[key] = found[f"inertia.{key}"][0]
+    return dataclasses.replace(link, inertial=dataclasses.replace(inertial, **changes))

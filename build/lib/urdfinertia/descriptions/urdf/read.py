@@ -1,0 +1,246 @@
+"""Read a URDF with a hardened lxml parser into :mod:`urdf_model` objects.
+
+Entities are never resolved, no DTD is loaded and nothing is fetched from the network;
+documents that declare entities are refused outright (XXE, "billion laughs"). Numbers must
+be plain finite decimals; sizes must be positive and existing masses and principal
+diagonal moments non-negative (:func:`check_inertial_signs`, strict reading only).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+from lxml import etree
+
+from urdfinertia.descriptions.formats import read_bytes
+from urdfinertia.descriptions.model import (
+    Box,
+    Capsule,
+    Cylinder,
+    GeometryRef,
+    Inertial,
+    Joint,
+    Link,
+    Mesh,
+    Origin,
+    Robot,
+    Shape,
+    Sphere,
+)
+from urdfinertia.descriptions.xml import parse_document
+from urdfinertia.errors import UrdfError
+
+#: Largest magnitude of any number read (SI units: 1e9 m, kg or kg m^2 describe no robot);
+#: keeps every product the maths forms far from float64 overflow (1e308).
+MAX_MAGNITUDE = 1e9
+#: A decimal number as XML Schema writes a double, without NaN/INF (checked separately)
+#: and without what Python's ``float`` also takes (``1_0``, non-ASCII digits, spaces).
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
+_NUMBER_MATCH = _NUMBER.match
+#: Attribute texts already read without error, by (text, count): most are repeated ("0 0 0",
+#: "1 1 1", the same inertia in mirrored links). Bounded: cleared when full.
+_VALID_NUMBERS: dict[tuple[str, int], tuple[float, ...]] = {}
+_MAX_VALID_NUMBERS = 1 << 16
+
+
+def parse_xml(data: bytes, file: str | Path) -> etree._Element:
+    """Parse URDF bytes into an lxml root element (:func:`xml.parse_document`)."""
+    return parse_document(data, file, ("robot",))
+
+
+def read_urdf_bytes(path: str | Path) -> bytes:
+    """The file's bytes, or a :class:`UrdfError` naming it."""
+    return read_bytes(path)
+
+
+def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
+    """Read ``path`` and return the robot model and the file's original bytes."""
+    data = read_urdf_bytes(path)
+    return robot_from_bytes(data, path), data
+
+
+def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
+    root = parse_xml(data, path)
+    robot = robot_from_element(root, Path(path))
+    check_inertial_signs(robot)
+    return robot
+
+
+#: Negative diagonal moments down to this (kg m^2) are CAD round-off of 0 (iCub has
+#: ``ixx="-5.42101e-20"``) and are accepted; ``fix`` replaces them anyway.
+NEGATIVE_MOMENT_ROUNDOFF = 1e-12
+
+
+def check_inertial_signs(robot: Robot) -> None:
+    """Refuse an existing ``<inertial>`` with a negative mass or diagonal moment.
+
+    Such values describe no body in any frame (a diagonal entry of a positive
+    semi-definite tensor is never negative). A zero mass is a common placeholder and is
+    accepted. The linter (:mod:`raw_inertial`) skips this check to report them instead.
+    """
+    for link in robot.links:
+        inertial = link.inertial
+        if inertial is None:
+            continue
+        where = {"file": robot.path, "line": inertial.line, "link": link.name}
+        if inertial.mass < 0:
+            raise UrdfError(f"<mass value=\"{inertial.mass:g}\"> is negative", **where)
+        for key in ("ixx", "iyy", "izz"):
+            value = getattr(inertial, key)
+            if value < -NEGATIVE_MOMENT_ROUNDOFF:
+                raise UrdfError(f"<inertia {key}=\"{value:g}\"> is negative", **where)
+
+
+def robot_from_element(root: etree._Element, path: Path) -> Robot:
+    links: list[Link] = []
+    seen: set[str] = set()
+    for el in _children(root, "link"):
+        link = _link(el, path)
+        if link.name in seen:
+            raise UrdfError(f"duplicate link name '{link.name}'", file=path, line=el.sourceline)
+        seen.add(link.name)
+        links.append(link)
+    joints = tuple(_joint(el, path) for el in _children(root, "joint"))
+    return Robot(name=root.get("name", ""), links=tuple(links), joints=joints, path=path)
+
+
+def _children(el: etree._Element, tag: str) -> list[etree._Element]:
+    return [c for c in el if isinstance(c.tag, str) and c.tag == tag]
+
+
+class _Ctx:
+    """Where we are, for error messages."""
+
+    def __init__(self, path: Path, link: str | None) -> None:
+        self.path = path
+        self.link = link
+
+    def error(self, cause: str, el: etree._Element) -> UrdfError:
+        return UrdfError(cause, file=self.path, line=el.sourceline, link=self.link)
+
+    def floats(self, el: etree._Element, attr: str, n: int, default: str | None = None,
+               ) -> tuple[float, ...]:
+        text = el.get(attr, default)
+        if text is None:
+            raise self.error(f"<{el.tag}> is missing attribute '{attr}'", el)
+        known = _VALID_NUMBERS.get((text, n))
+        if known is not None:
+            return known
+        shown = text if len(text) <= 80 else text[:77] + "..."
+        parts = text.split()
+        if len(parts) != n:
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> needs {n} numbers", el)
+        if not all(map(_NUMBER_MATCH, parts)):
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is not a number", el)
+        values = tuple(map(float, parts))
+        if not all(map(math.isfinite, values)):
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (not finite)",
+                             el)
+        if values and max(map(abs, values)) > MAX_MAGNITUDE:  # all finite here
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (magnitude "
+                             f"above {MAX_MAGNITUDE:g})", el)
+        if len(_VALID_NUMBERS) >= _MAX_VALID_NUMBERS:
+            _VALID_NUMBERS.clear()
+        _VALID_NUMBERS[text, n] = values
+        return values
+
+    def positive(self, el: etree._Element, attr: str, n: int = 1) -> tuple[float, ...]:
+        values = self.floats(el, attr, n)
+        if not all(v > 0 for v in values):
+            raise self.error(f"<{el.tag} {attr}=\"{el.get(attr)}\"> must be positive", el)
+        return values
+
+
+def _origin(parent: etree._Element, ctx: _Ctx) -> Origin:
+    found = _children(parent, "origin")
+    if not found:
+        return Origin()
+    el = found[0]
+    return Origin(ctx.floats(el, "xyz", 3, "0 0 0"), ctx.floats(el, "rpy", 3, "0 0 0"))  # type: ignore[arg-type]
+
+
+def _shape(geometry: etree._Element, ctx: _Ctx) -> Shape:
+    kids = [c for c in geometry if isinstance(c.tag, str)]
+    if len(kids) != 1:
+        raise ctx.error("<geometry> must hold exactly one shape", geometry)
+    el = kids[0]
+    if el.tag == "box":
+        return Box(ctx.positive(el, "size", 3))  # type: ignore[arg-type]
+    if el.tag == "cylinder":
+        return Cylinder(ctx.positive(el, "radius")[0], ctx.positive(el, "length")[0])
+    if el.tag == "sphere":
+        return Sphere(ctx.positive(el, "radius")[0])
+    if el.tag == "capsule":
+        radius = ctx.positive(el, "radius")[0]
+        length = ctx.floats(el, "length", 1)[0]
+        if length < 0:
+            raise ctx.error(f"<capsule length=\"{el.get('length')}\"> must be >= 0", el)
+        return Capsule(radius, length)
+    if el.tag == "mesh":
+        filename = el.get("filename")
+        if not filename:
+            raise ctx.error("<mesh> is missing attribute 'filename'", el)
+        scale = ctx.floats(el, "scale", 3, "1 1 1")
+        if any(s == 0 for s in scale):
+            raise ctx.error(f"<mesh scale=\"{el.get('scale')}\"> has a zero component", el)
+        return Mesh(filename, scale)  # type: ignore[arg-type]
+    raise ctx.error(f"unsupported geometry <{el.tag}>", el)
+
+
+def _geometry_refs(link_el: etree._Element, role: str, ctx: _Ctx) -> tuple[GeometryRef, ...]:
+    refs = []
+    for index, el in enumerate(_children(link_el, role)):
+        geo = _children(el, "geometry")
+        if not geo:
+            raise ctx.error(f"<{role}> has no <geometry>", el)
+        refs.append(GeometryRef(role, index, el.get("name"), _origin(el, ctx),
+                                _shape(geo[0], ctx), el.sourceline))
+    return tuple(refs)
+
+
+def _inertial(link_el: etree._Element, ctx: _Ctx) -> Inertial | None:
+    found = _children(link_el, "inertial")
+    if not found:
+        return None
+    el = found[0]
+    mass_el = _children(el, "mass")
+    inertia_el = _children(el, "inertia")
+    if not mass_el:
+        raise ctx.error("<inertial> has no <mass>", el)
+    mass = ctx.floats(mass_el[0], "value", 1)[0]
+    if inertia_el:
+        values = [ctx.floats(inertia_el[0], k, 1, "0")[0]
+                  for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
+    else:
+        values = [0.0] * 6
+    return Inertial(_origin(el, ctx), mass, *values, line=el.sourceline)
+
+
+def _link(el: etree._Element, path: Path) -> Link:
+    name = el.get("name")
+    if not name:
+        raise UrdfError("<link> without a name", file=path, line=el.sourceline)
+    ctx = _Ctx(path, name)
+    return Link(
+        name=name,
+        collisions=_geometry_refs(el, "collision", ctx),
+        visuals=_geometry_refs(el, "visual", ctx),
+        inertial=_inertial(el, ctx),
+        line=el.sourceline,
+    )
+
+
+def _joint(el: etree._Element, path: Path) -> Joint:
+    ctx = _Ctx(path, None)
+    parent = _children(el, "parent")
+    child = _children(el, "child")
+    return Joint(
+        name=el.get("name", ""),
+        type=el.get("type", ""),
+        parent=parent[0].get("link", "") if parent else "",
+        child=child[0].get("link", "") if child else "",
+        origin=_origin(el, ctx),
+        line=el.sourceline,
+    )

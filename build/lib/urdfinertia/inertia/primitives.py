@@ -1,0 +1,72 @@
+"""Closed-form mass properties of URDF/SDF primitives, each in its own frame.
+
+Pure numpy. Every body is centred at the origin of its own frame, which is the frame of
+the URDF ``<geometry>``: boxes take *full* side lengths, cylinders and capsules lie along
+z with *full* length (for a capsule: the length of the cylindrical section between the
+two cap centres, as in SDF and ROS 2 URDF). All take a density in kg/m^3.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from urdfinertia.inertia.massprops import MassProperties
+
+
+def _positive(name: str, *values: float) -> None:
+    for v in values:
+        if not (np.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be positive and finite, got {v!r}")
+
+
+def box(size: ArrayLike, density: float) -> MassProperties:
+    """Cuboid of full side lengths ``size = (a, b, c)`` (paper eq. 39)."""
+    a, b, c = np.asarray(size, dtype=np.float64)
+    _positive("box size", a, b, c)
+    m = density * a * b * c
+    diag = m / 12.0 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+    return MassProperties(m, np.zeros(3), np.diag(diag))
+
+
+def cylinder(radius: float, length: float, density: float) -> MassProperties:
+    """Solid cylinder of ``radius`` and full ``length`` along z."""
+    _positive("cylinder radius/length", radius, length)
+    m = density * np.pi * radius**2 * length
+    ixx = m * (3.0 * radius**2 + length**2) / 12.0
+    return MassProperties(m, np.zeros(3), np.diag([ixx, ixx, 0.5 * m * radius**2]))
+
+
+def sphere(radius: float, density: float) -> MassProperties:
+    """Solid sphere of ``radius``."""
+    _positive("sphere radius", radius)
+    m = density * 4.0 / 3.0 * np.pi * radius**3
+    return MassProperties(m, np.zeros(3), np.eye(3) * 0.4 * m * radius**2)
+
+
+def ellipsoid(radii: ArrayLike, density: float) -> MassProperties:
+    """Solid ellipsoid of semi-axes ``radii = (a, b, c)`` along x, y, z."""
+    a, b, c = np.asarray(radii, dtype=np.float64)
+    _positive("ellipsoid radii", a, b, c)
+    m = density * 4.0 / 3.0 * np.pi * a * b * c
+    diag = m / 5.0 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+    return MassProperties(m, np.zeros(3), np.diag(diag))
+
+
+def capsule(radius: float, length: float, density: float) -> MassProperties:
+    """Capsule along z: a cylinder of ``radius`` and ``length`` plus two hemispherical caps.
+
+    Each cap's centre of mass lies 3r/8 beyond the cylinder end, which gives the
+    ``3 L r / 8`` cross term below.
+    """
+    _positive("capsule radius", radius)
+    if not (np.isfinite(length) and length >= 0):
+        raise ValueError(f"capsule length must be >= 0 and finite, got {length!r}")
+    r, h = radius, length
+    m_cyl = density * np.pi * r * r * h
+    m_caps = density * 4.0 / 3.0 * np.pi * r**3  # both hemispheres together
+    izz = m_cyl * r * r / 2.0 + m_caps * 2.0 * r * r / 5.0
+    ixx = m_cyl * (r * r / 4.0 + h * h / 12.0) + m_caps * (
+        2.0 * r * r / 5.0 + h * h / 4.0 + 3.0 * h * r / 8.0
+    )
+    return MassProperties(m_cyl + m_caps, np.zeros(3), np.diag([ixx, ixx, izz]))

@@ -1,0 +1,67 @@
+"""What the user asked for: the options of every command that computes from geometry.
+
+:class:`FixOptions` is a frozen value; :func:`select_geometry` is the one rule for which
+of a link's elements make its parts. Importable without numpy or lxml (a warm batch run
+needs only this).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
+
+if TYPE_CHECKING:
+    from urdfinertia.descriptions.model import GeometryRef, Link
+
+GEOMETRY_MODES = ("auto", "collision", "visual")
+MASS_MODES = ("keep", "density")
+#: Densities outside this range (kg/m^3) suggest a unit slip or a placeholder mass.
+PLAUSIBLE_DENSITY = (50.0, 25000.0)
+
+
+@dataclass(frozen=True)
+class FixOptions:
+    """What ``urdf-inertia fix`` was asked to do.
+
+    geometry : "auto" (collision if the link has any, else visual), "collision" or "visual".
+    mass : "keep" (keep a link's existing positive mass, geometry gives CoM and tensor)
+        or "density" (mass = density x volume).
+    density : kg/m^3 used when a link has no mass or with ``mass="density"``.
+    """
+
+    geometry: str = "auto"
+    mass: str = "keep"
+    density: float = 1000.0
+    package_dirs: Mapping[str, Path] = field(default_factory=dict)
+    max_faces: int = DEFAULT_MAX_FACES
+    spec: object | None = None  # urdfinertia.link.spec.Spec, when given
+
+    def __post_init__(self) -> None:
+        if self.geometry not in GEOMETRY_MODES:
+            raise ValueError(f"geometry must be one of {GEOMETRY_MODES}")
+        if self.mass not in MASS_MODES:
+            raise ValueError(f"mass must be one of {MASS_MODES}")
+        if not (math.isfinite(self.density) and self.density > 0):
+            raise ValueError("density must be positive")
+
+
+def select_geometry(link: Link, mode: str) -> tuple[str, tuple[GeometryRef, ...]]:
+    """Which geometry elements make the link's parts (see :class:`FixOptions`)."""
+    if mode == "collision" or (mode == "auto" and link.collisions):
+        return "collision", link.collisions
+    if mode == "visual" or (mode == "auto" and link.visuals):
+        return "visual", link.visuals
+    return "none", ()
+
+
+def existing_mass(link: Link) -> float | None:
+    if link.inertial is not None and link.inertial.mass > 0:
+        return link.inertial.mass
+    return None
+
+

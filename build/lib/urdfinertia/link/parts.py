@@ -1,0 +1,130 @@
+"""Break a link's geometry into parts: homogeneous pieces, each in its own frame.
+
+This is where a part's tensor is computed: primitives by closed form
+(:mod:`urdfinertia.inertia.primitives`), meshes by exact polyhedral integrals of each body
+(:mod:`urdfinertia.mesh.solids`). Every part is computed at unit density (1 kg/m^3) in its own
+frame, with its pose in the link frame; :mod:`urdfinertia.link.assemble` gives it mass and
+moves it to the link's centre of mass.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.descriptions.model import (
+    Box,
+    Capsule,
+    Cylinder,
+    Ellipsoid,
+    GeometryRef,
+    Mesh,
+    Shape,
+    Sphere,
+)
+from urdfinertia.errors import MeshError, UrdfInertiaError
+from urdfinertia.inertia import primitives
+from urdfinertia.inertia.massprops import MassProperties
+
+
+@dataclass(frozen=True, eq=False)
+class Part:
+    """A homogeneous piece of a link.
+
+    Attributes
+    ----------
+    name : str
+        Human label, e.g. ``"collision[0] body 2"``.
+    element : str
+        The element (group of parts) it belongs to.
+    unit : MassProperties
+        Mass properties at 1 kg/m^3 in the part's own frame (so ``unit.mass`` is the
+        volume in m^3).
+    pose : (4, 4) float
+        The part frame in the link frame.
+    method : str
+        How the tensor was obtained ("closed form box", "exact (closed mesh)", ...).
+    density, mass : float or None
+        kg/m^3 or kg when the user knows them; otherwise the link's policy decides.
+    cavity : bool
+        Removed material: contributes negative mass.
+    """
+
+    name: str
+    element: str
+    unit: MassProperties
+    pose: np.ndarray
+    method: str
+    density: float | None = None
+    mass: float | None = None
+    cavity: bool = False
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def volume(self) -> float:
+        return self.unit.mass
+
+    def in_link(self, mass: float) -> MassProperties:
+        """This part with ``mass`` kg (negative for a cavity) expressed in the link frame."""
+        return self.unit.with_mass(mass).transformed(self.pose)
+
+
+def shape_solids(shape: Shape, meshes: MeshLibrary, urdf_dir: Path,
+                 ) -> list[tuple[MassProperties, str, tuple[str, ...]]]:
+    """Unit-density mass properties of a shape in its geometry frame, one per body."""
+    if isinstance(shape, Box):
+        return [(primitives.box(shape.size, 1.0), "closed form box", ())]
+    if isinstance(shape, Cylinder):
+        return [(primitives.cylinder(shape.radius, shape.length, 1.0),
+                 "closed form cylinder", ())]
+    if isinstance(shape, Sphere):
+        return [(primitives.sphere(shape.radius, 1.0), "closed form sphere", ())]
+    if isinstance(shape, Capsule):
+        return [(primitives.capsule(shape.radius, shape.length, 1.0),
+                 "closed form capsule", ())]
+    if isinstance(shape, Ellipsoid):
+        return [(primitives.ellipsoid(shape.radii, 1.0), "closed form ellipsoid", ())]
+    if isinstance(shape, Mesh):
+        path = meshes.resolve(shape.filename, urdf_dir)
+        found = meshes.solids(path).scaled(shape.scale)
+        out = []
+        mirrored = math.prod(shape.scale) < 0  # the sign of np.prod's product, exactly
+        for solid in found.solids:
+            notes = solid.notes + found.notes + (("mirrored by scale",) if mirrored else ())
+            try:
+                unit = solid.mass_properties(1.0)
+            except ValueError as exc:
+                raise MeshError(f"mesh {shape.filename!r} gives no valid solid ({solid.method}): "
+                                f"{exc}") from None
+            out.append((unit, solid.method, notes))
+        return out
+    raise TypeError(f"unknown shape {shape!r}")
+
+
+def geometry_parts(ref: GeometryRef, meshes: MeshLibrary, urdf_dir: Path) -> list[Part]:
+    """The parts of one ``<collision>``/``<visual>``: one per primitive or mesh body."""
+    try:
+        bodies = shape_solids(ref.shape, meshes, urdf_dir)
+    except UrdfInertiaError as exc:
+        raise exc.with_context(line=ref.line) from None
+    pose = ref.origin.matrix()
+    parts = []
+    for i, (unit, method, notes) in enumerate(bodies):
+        name = ref.label if len(bodies) == 1 else f"{ref.label} body {i + 1}"
+        parts.append(Part(name=name, element=ref.label, unit=unit, pose=pose, method=method,
+                          density=ref.density, mass=_share(ref.mass, unit, bodies),
+                          notes=notes))
+    return parts
+
+
+def _share(mass: float | None, unit: MassProperties,
+           bodies: list[tuple[MassProperties, str, tuple[str, ...]]]) -> float | None:
+    """An element's stated mass split over its bodies by volume (None: not stated)."""
+    if mass is None:
+        return None
+    total = sum(b[0].mass for b in bodies)
+    return mass * unit.mass / total if total > 0 else None

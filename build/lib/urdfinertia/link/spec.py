@@ -1,0 +1,399 @@
+"""Decomposition specs: the paper's elements and parts, written down in TOML.
+
+A link is divided into elements, each with its own frame in the link frame (xyz + rpy:
+the paper's gamma, alpha, delta, eqs. 14-17), and each element into parts with their own
+frame in the element frame (section 2). A part is a primitive, a mesh file or a reference
+to one of the link's ``<collision>``/``<visual>`` elements, and carries a known mass, a
+density or a material name, or nothing (it then shares the link's pinned or default mass
+by volume). See ``docs/sections/03-spec.md`` for the format.
+
+Errors name the spec file and the TOML key path, e.g.
+``links.link1.elements.k.parts.body.density``.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.descriptions.model import (
+    Box,
+    Capsule,
+    Cylinder,
+    GeometryRef,
+    Link,
+    Mesh,
+    Origin,
+    Robot,
+    Shape,
+    Sphere,
+)
+from urdfinertia.errors import MeshError, SpecError
+from urdfinertia.link.materials import MATERIALS, material_density, material_key
+from urdfinertia.link.parts import Part, shape_solids
+
+#: Relative mismatch tolerated between a pinned link mass and fully known part masses.
+PINNED_MASS_RTOL = 1e-9
+PRIMITIVES = ("box", "cylinder", "sphere", "capsule", "mesh")
+REFERENCES = ("collision", "visual")
+_TOP_KEYS = ("links", "materials")
+_LINK_KEYS = ("mass", "elements")
+_ELEMENT_KEYS = ("xyz", "rpy", "density", "material", "parts")
+_PART_KEYS = (*PRIMITIVES, *REFERENCES, "xyz", "rpy", "density", "material", "mass", "cavity")
+_SHAPE_KEYS = {"box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",),
+               "capsule": ("radius", "length"), "mesh": ("filename", "scale")}
+
+
+@dataclass(frozen=True)
+class GeometrySelector:
+    """A part that is one of the link's own ``<collision>``/``<visual>`` elements."""
+
+    role: str  # "collision" | "visual"
+    which: int | str  # index among the link's elements of that role, or name
+
+    def find(self, link: Link, key: str, file: Path) -> GeometryRef:
+        refs = link.collisions if self.role == "collision" else link.visuals
+        if isinstance(self.which, int):
+            if not 0 <= self.which < len(refs):
+                raise SpecError(f"{key}: link '{link.name}' has {len(refs)} <{self.role}> "
+                                f"element(s), index {self.which} is out of range", file=file)
+            return refs[self.which]
+        found = [r for r in refs if r.name == self.which]
+        if len(found) != 1:
+            names = [r.name for r in refs if r.name]
+            what = "no" if not found else f"{len(found)}"
+            raise SpecError(f"{key}: link '{link.name}' has {what} <{self.role}> named "
+                            f"{self.which!r} (named ones: {names})", file=file)
+        return found[0]
+
+
+@dataclass(frozen=True)
+class PartSpec:
+    """One part as written in the spec; ``origin`` is its frame in the element frame."""
+
+    name: str
+    key: str
+    source: Shape | GeometrySelector
+    origin: Origin
+    density: float | None  # kg/m^3, from ``density`` or ``material``
+    mass: float | None  # kg
+    cavity: bool
+
+    @property
+    def known(self) -> bool:
+        return self.density is not None or self.mass is not None
+
+
+@dataclass(frozen=True)
+class ElementSpec:
+    """An element: a frame in the link frame and the parts placed in it."""
+
+    name: str
+    key: str
+    origin: Origin
+    parts: tuple[PartSpec, ...]
+
+
+@dataclass(frozen=True)
+class LinkSpec:
+    """A link's decomposition; ``mass`` pins the link's total (kg) when given."""
+
+    name: str
+    key: str
+    mass: float | None
+    elements: tuple[ElementSpec, ...]
+    path: Path  # the spec file: meshes resolve relative to its folder
+
+    def uses_default_mass(self) -> bool:
+        """True when nothing in the spec says how heavy the link is."""
+        return self.mass is None and not any(p.known for e in self.elements for p in e.parts)
+
+    def check_references(self, link: Link) -> None:
+        for element in self.elements:
+            for p in element.parts:
+                if isinstance(p.source, GeometrySelector):
+                    p.source.find(link, f"{p.key}.{p.source.role}", self.path)
+
+    def parts(self, link: Link, meshes: MeshLibrary, urdf_dir: Path,
+              ) -> tuple[list[Part], float | None]:
+        """The link's parts (unit density, own frame, pose in the link frame) and pinned mass.
+
+        A part's pose is ``element pose @ part pose`` (eq. 23 applied twice); a referenced
+        ``<collision>``/``<visual>`` keeps the pose its ``<origin>`` gives it in the link.
+        """
+        out: list[Part] = []
+        for element in self.elements:
+            element_pose = element.origin.matrix()
+            for p in element.parts:
+                out.extend(self._part(p, element, element_pose, link, meshes, urdf_dir))
+        self._check_masses(out)
+        return out, self.mass
+
+    def _part(self, p: PartSpec, element: ElementSpec, element_pose: np.ndarray, link: Link,
+              meshes: MeshLibrary, urdf_dir: Path) -> list[Part]:
+        label = f"{element.name}/{p.name}"
+        if isinstance(p.source, GeometrySelector):
+            ref = p.source.find(link, f"{p.key}.{p.source.role}", self.path)
+            bodies = shape_solids(ref.shape, meshes, urdf_dir)
+            pose, where = ref.origin.matrix(), f" of {ref.label}"
+        else:
+            try:
+                bodies = shape_solids(p.source, meshes, self.path.parent)
+            except MeshError as exc:
+                if exc.file is not None:
+                    raise
+                raise SpecError(f"{p.key}.mesh: {exc.cause}", file=self.path) from None
+            pose, where = element_pose @ p.origin.matrix(), ""
+        volume = sum(unit.mass for unit, _, _ in bodies)
+        if not volume > 0:
+            raise SpecError(f"{p.key}: part has no volume", file=self.path)
+        parts = []
+        for i, (unit, method, notes) in enumerate(bodies):
+            name = label if len(bodies) == 1 else f"{label} body {i + 1}"
+            mass = None if p.mass is None else p.mass * unit.mass / volume
+            parts.append(Part(name=name, element=element.name, unit=unit, pose=pose,
+                              method=method + where, density=p.density, mass=mass,
+                              cavity=p.cavity, notes=notes))
+        return parts
+
+    def _check_masses(self, parts: list[Part]) -> None:
+        """Known masses against the pinned total, named by spec key (assemble's rules)."""
+        if self.mass is None:
+            return
+        known = free_volume = 0.0
+        for p in parts:
+            sign = -1.0 if p.cavity else 1.0
+            if p.mass is not None:
+                known += sign * p.mass
+            elif p.density is not None:
+                known += sign * p.density * p.volume
+            else:
+                free_volume += sign * p.volume
+        key = f"{self.key}.mass"
+        if any(not (p.mass is not None or p.density is not None) for p in parts):
+            if not known < self.mass:
+                raise SpecError(f"{key}: parts with known mass or density already weigh "
+                                f"{known:.6g} kg, the pinned total is {self.mass:.6g} kg",
+                                file=self.path)
+            if not free_volume > 0:
+                raise SpecError(f"{key}: the parts left to share {self.mass - known:.6g} kg "
+                                "have no net volume (cavities only?)", file=self.path)
+        elif abs(known - self.mass) > PINNED_MASS_RTOL * self.mass:
+            raise SpecError(f"{key}: every part's mass is known and they sum to {known:.6g} "
+                            f"kg, not the pinned {self.mass:.6g} kg (drop one or the other)",
+                            file=self.path)
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A whole spec file: link name -> :class:`LinkSpec`."""
+
+    path: Path
+    links: tuple[LinkSpec, ...]
+
+    def link(self, name: str) -> LinkSpec | None:
+        for link in self.links:
+            if link.name == name:
+                return link
+        return None
+
+    def check_links(self, robot: Robot) -> None:
+        """Raise :class:`SpecError` for spec links the URDF lacks or bad references."""
+        names = [link.name for link in robot.links]
+        for ls in self.links:
+            if ls.name not in names:
+                close = difflib.get_close_matches(ls.name, names, n=3)
+                hint = f" (did you mean {', '.join(close)}?)" if close else ""
+                raise SpecError(f"{ls.key}: the URDF '{robot.name}' has no link "
+                                f"'{ls.name}'{hint}", file=self.path)
+            ls.check_references(robot.link(ls.name))
+
+
+# --- reading --------------------------------------------------------------------------
+
+def load_spec(path: str | Path) -> Spec:
+    """Read and validate a spec file (TOML)."""
+    path = Path(path)
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except OSError as exc:
+        raise SpecError(f"cannot read spec: {exc.strerror or exc}", file=path) from None
+    except UnicodeDecodeError:
+        raise SpecError("spec is not UTF-8 text", file=path) from None
+    return parse_spec(text, path)
+
+
+def parse_spec(text: str, path: Path) -> Spec:
+    """Validate spec ``text``; ``path`` names it in errors and anchors relative meshes."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        found = re.search(r"at line (\d+)", str(exc))  # Python < 3.14 has no exc.lineno
+        line = getattr(exc, "lineno", None) or (int(found.group(1)) if found else None)
+        raise SpecError(f"invalid TOML: {exc}", file=path, line=line) from None
+    return _Reader(path).spec(data)
+
+
+class _Reader:
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.materials: dict[str, float] = {}
+
+    def fail(self, key: str, problem: str) -> SpecError:
+        return SpecError(f"{key}: {problem}", file=self.path)
+
+    def table(self, value: Any, key: str, allowed: tuple[str, ...] | None) -> dict[str, Any]:
+        if not isinstance(value, dict):
+            raise self.fail(key, f"expected a table, got {type(value).__name__}")
+        if allowed is not None:
+            for k in value:
+                if k not in allowed:
+                    close = difflib.get_close_matches(k, allowed, n=1)
+                    hint = f"did you mean '{close[0]}'? " if close else ""
+                    raise self.fail(f"{key}.{k}" if key else k,
+                                    f"unknown key ({hint}allowed: {', '.join(allowed)})")
+        return value
+
+    def number(self, value: Any, key: str, unit: str, *, zero_ok: bool = False) -> float:
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if ok and math.isfinite(value) and (value > 0 or (zero_ok and value == 0)):
+            return float(value)
+        need = "a non-negative" if zero_ok else "a positive"
+        raise self.fail(key, f"must be {need} number ({unit}), got {value!r}")
+
+    def vector(self, value: Any, key: str, *, positive: bool = False) -> tuple[float, ...]:
+        if not (isinstance(value, list) and len(value) == 3 and all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                for v in value)):
+            raise self.fail(key, f"must be a list of 3 numbers, got {value!r}")
+        if positive and not all(v > 0 for v in value):
+            raise self.fail(key, f"must be 3 positive numbers (m), got {value!r}")
+        return tuple(float(v) for v in value)
+
+    def origin(self, table: dict[str, Any], key: str) -> Origin:
+        xyz = self.vector(table.get("xyz", [0, 0, 0]), f"{key}.xyz")
+        rpy = self.vector(table.get("rpy", [0, 0, 0]), f"{key}.rpy")
+        return Origin(xyz, rpy)  # type: ignore[arg-type]
+
+    def density(self, table: dict[str, Any], key: str) -> float | None:
+        if "density" in table and "material" in table:
+            raise self.fail(f"{key}.material", "give either density or material, not both")
+        if "density" in table:
+            return self.number(table["density"], f"{key}.density", "kg/m^3")
+        if "material" in table:
+            name = table["material"]
+            found = material_density(name, self.materials) if isinstance(name, str) else None
+            if found is None:
+                known = sorted({*MATERIALS, *self.materials})
+                raise self.fail(f"{key}.material", f"unknown material {name!r} (known: "
+                                f"{', '.join(known)}; add it under [materials])")
+            return found
+        return None
+
+    def spec(self, data: dict[str, Any]) -> Spec:
+        self.table(data, "", _TOP_KEYS)
+        for name, value in self.table(data.get("materials", {}), "materials", None).items():
+            self.materials[material_key(name)] = self.number(value, f"materials.{name}",
+                                                             "kg/m^3")
+        links = self.table(data.get("links", {}), "links", None)
+        if not links:
+            raise self.fail("links", "the spec names no links")
+        return Spec(self.path, tuple(self.link(n, v, f"links.{_q(n)}") for n, v in links.items()))
+
+    def link(self, name: str, value: Any, key: str) -> LinkSpec:
+        table = self.table(value, key, _LINK_KEYS)
+        mass = self.number(table["mass"], f"{key}.mass", "kg") if "mass" in table else None
+        elements = self.table(table.get("elements", {}), f"{key}.elements", None)
+        if not elements:
+            raise self.fail(f"{key}.elements", "a link in the spec needs at least one element")
+        return LinkSpec(name, key, mass, tuple(
+            self.element(n, v, f"{key}.elements.{_q(n)}") for n, v in elements.items()),
+            self.path)
+
+    def element(self, name: str, value: Any, key: str) -> ElementSpec:
+        table = self.table(value, key, _ELEMENT_KEYS)
+        default_density = self.density(table, key)
+        parts = self.table(table.get("parts", {}), f"{key}.parts", None)
+        if not parts:
+            raise self.fail(f"{key}.parts", "an element needs at least one part")
+        return ElementSpec(name, key, self.origin(table, key), tuple(
+            self.part(n, v, f"{key}.parts.{_q(n)}", default_density) for n, v in parts.items()))
+
+    def part(self, name: str, value: Any, key: str, default_density: float | None) -> PartSpec:
+        table = self.table(value, key, _PART_KEYS)
+        given = [k for k in (*PRIMITIVES, *REFERENCES) if k in table]
+        if len(given) != 1:
+            if not given and "mass" in table:
+                raise self.fail(f"{key}.mass", "a known mass needs a volume: give the part a "
+                                f"shape ({', '.join(PRIMITIVES + REFERENCES)})")
+            raise self.fail(key, f"give exactly one of {', '.join(PRIMITIVES + REFERENCES)}"
+                            f" (got {', '.join(given) or 'none'})")
+        kind = given[0]
+        source = self.source(kind, table[kind], f"{key}.{kind}")
+        if kind in REFERENCES and ("xyz" in table or "rpy" in table):
+            raise self.fail(f"{key}.{'xyz' if 'xyz' in table else 'rpy'}", "a referenced "
+                            f"<{kind}> is placed by its own <origin> in the URDF")
+        density = self.density(table, key)
+        mass = self.number(table["mass"], f"{key}.mass", "kg") if "mass" in table else None
+        if mass is not None and density is not None:
+            raise self.fail(f"{key}.mass", "give a mass or a density/material, not both")
+        if mass is None and density is None:
+            density = default_density
+        cavity = table.get("cavity", False)
+        if not isinstance(cavity, bool):
+            raise self.fail(f"{key}.cavity", f"must be true or false, got {cavity!r}")
+        return PartSpec(name, key, source, self.origin(table, key), density, mass, cavity)
+
+    def source(self, kind: str, value: Any, key: str) -> Shape | GeometrySelector:
+        if kind in REFERENCES:
+            ok = isinstance(value, str) or (isinstance(value, int)
+                                            and not isinstance(value, bool) and value >= 0)
+            if not ok:
+                raise self.fail(key, f"must be an index (0, 1, ...) or a name, got {value!r}")
+            return GeometrySelector(kind, value)
+        t = self.table(value, key, _SHAPE_KEYS[kind])
+        for k in _SHAPE_KEYS[kind]:
+            if k not in t and k != "scale":
+                raise self.fail(f"{key}.{k}", f"missing (a {kind} needs "
+                                f"{', '.join(_SHAPE_KEYS[kind])})")
+        if kind == "box":
+            return Box(self.vector(t["size"], f"{key}.size", positive=True))  # type: ignore
+        if kind == "sphere":
+            return Sphere(self.number(t["radius"], f"{key}.radius", "m"))
+        if kind in ("cylinder", "capsule"):
+            r = self.number(t["radius"], f"{key}.radius", "m")
+            length = self.number(t["length"], f"{key}.length", "m", zero_ok=kind == "capsule")
+            return Cylinder(r, length) if kind == "cylinder" else Capsule(r, length)
+        return self.mesh(t, key)
+
+    def mesh(self, t: dict[str, Any], key: str) -> Mesh:
+        filename = t["filename"]
+        if not isinstance(filename, str) or not filename:
+            raise self.fail(f"{key}.filename", f"must be a file name, got {filename!r}")
+        scale: Any = t.get("scale", 1.0)
+        if isinstance(scale, (int, float)) and not isinstance(scale, bool):
+            scale = [scale] * 3
+        scale3 = self.vector(scale, f"{key}.scale")
+        if any(s == 0 for s in scale3):
+            raise self.fail(f"{key}.scale", "must not be zero")
+        if "://" not in filename:
+            file = Path(filename) if Path(filename).is_absolute() else self.path.parent / filename
+            if not file.is_file():
+                raise self.fail(f"{key}.filename", f"mesh file not found: {filename!r} "
+                                f"(looked at {file})")
+        return Mesh(filename, scale3)  # type: ignore[arg-type]
+
+
+def _q(name: str) -> str:
+    """A TOML key as it would be written in a dotted path."""
+    bare = name and all(c.isalnum() or c in "-_" for c in name)
+    return name if bare else f'"{name}"'
+

@@ -1,0 +1,349 @@
+"""Read mesh files (STL, OBJ, DAE, PLY, GLB/glTF, OFF) into plain vertex/face arrays.
+
+A scene's node transforms are applied and every piece is concatenated into one array pair;
+splitting into bodies happens later (:mod:`urdfinertia.mesh.solids`). COLLADA ``<unit meter>``
+is honoured, as RViz and Gazebo do.
+
+STL, OBJ and COLLADA files are read by this package's own readers (:mod:`stl_read`,
+:mod:`obj_read`, :mod:`dae_read`), which give trimesh's arrays exactly; trimesh is imported
+only for the other formats and for the rare file those readers leave to it.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+import stat
+import struct
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import BinaryIO
+
+import numpy as np
+
+from urdfinertia.descriptions.xml import hostile_xml_stream_cause
+from urdfinertia.errors import MeshError
+from urdfinertia.mesh.limits import BYTES_PER_FACE, DEFAULT_MAX_FACES, max_mesh_bytes
+from urdfinertia.mesh.read.common import Piece, TooManyFaces
+from urdfinertia.mesh.read.dae import read_dae
+from urdfinertia.mesh.read.obj import read_obj
+from urdfinertia.mesh.read.stl import read_stl
+
+SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off")
+_CHUNK = 1 << 20
+#: Largest vertex coordinate accepted, m (after unit scaling): fifth powers stay finite.
+MAX_COORDINATE = 1e9
+#: Bytes of a COLLADA file searched for ``<unit meter>``.
+_UNIT_HEAD = 65536
+_IDENTITY_BYTES = np.eye(4).tobytes()
+
+
+@dataclass(frozen=True, eq=False)
+class TriangleMesh:
+    """Triangles of one mesh file in the file's own frame (metres after unit scaling)."""
+
+    vertices: np.ndarray  # (n, 3) float64
+    faces: np.ndarray  # (m, 3) int64
+
+
+def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleMesh:
+    """Load ``path`` without any repair or vertex merging, within bounded memory.
+
+    Before any parser runs, the file's size is checked against :func:`max_mesh_bytes` and
+    its face count, where the format declares or cheaply reveals it, against
+    ``max_faces`` (:func:`declared_faces`). COLLADA files are refused when they declare
+    XML entities or an external DTD. STL, OBJ and COLLADA files are read once, and these
+    checks scan the bytes read. After loading, the triangle count (with every scene
+    instance expanded) is checked again before the arrays are built.
+
+    Raises
+    ------
+    MeshError
+        Unsupported format, unreadable or corrupt file, no triangles, too large a file or
+        more than ``max_faces`` faces.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in SUPPORTED_SUFFIXES:
+        raise MeshError(f"unsupported mesh format '{suffix}' ({path}); "
+                        f"supported: {', '.join(SUPPORTED_SUFFIXES)}")
+    data = _checked_bytes(path, suffix, max_faces)
+    pieces = _native_pieces(path, suffix, data, max_faces) if data is not None else None
+    loaded = _load_scene(path, suffix) if pieces is None else None
+    try:
+        if loaded is not None:
+            pieces = _scene_pieces(loaded)
+        vertices, faces = _concatenate(pieces, path, max_faces)
+    except MeshError:
+        raise
+    except Exception as exc:  # a scene graph trimesh built from corrupt data
+        raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
+    if len(faces) == 0:
+        raise MeshError(f"mesh {path} holds no triangles")
+    if suffix == ".dae":
+        unit = _collada_unit(data[:_UNIT_HEAD])
+    else:
+        unit = loaded.metadata.get("unit_meter") if hasattr(loaded, "metadata") else None
+    if unit and not np.isclose(unit, 1.0):
+        vertices = vertices * unit
+    if not np.all(np.isfinite(vertices)):
+        raise MeshError(f"mesh {path} has non-finite vertex coordinates")
+    if np.abs(vertices).max() > MAX_COORDINATE:
+        raise MeshError(f"mesh {path} has vertex coordinates beyond {MAX_COORDINATE:g} m")
+    return TriangleMesh(vertices, faces)
+
+
+def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
+    """The checks made before any parser runs; the file's bytes for the native formats.
+
+    Other formats are scanned in chunks and left for trimesh to read (None).
+    """
+    try:
+        info = path.stat()
+        if not stat.S_ISREG(info.st_mode):
+            raise MeshError(f"mesh {path} is not a regular file")
+        limit = max_mesh_bytes(max_faces)
+        if info.st_size > limit:
+            raise _too_large(path, info.st_size, limit, max_faces)
+        data = None
+        with open(path, "rb") as stream:
+            if suffix in _NATIVE:
+                data = stream.read(limit + 1)
+                if len(data) > limit:  # the file grew since stat
+                    raise _too_large(path, len(data), limit, max_faces)
+                declared = declared_faces_in(data, suffix)
+            else:
+                declared = declared_faces(stream, suffix, info.st_size)
+            if declared is not None and declared > max_faces:
+                raise _too_many(path, declared, max_faces)
+            if suffix == ".dae":
+                stream.seek(0)
+                cause = _collada_cause(io.BytesIO(data) if data is not None else stream)
+                if cause:
+                    raise MeshError(f"cannot read mesh {path}: {cause}")
+    except OSError as exc:
+        raise MeshError(f"cannot read mesh {path}: {exc.strerror or exc}") from None
+    return data
+
+
+def _too_large(path: Path, size: int, limit: int, max_faces: int) -> MeshError:
+    return MeshError(f"mesh {path} is {size} bytes, more than the limit {limit} bytes "
+                     f"({BYTES_PER_FACE} bytes per face of --max-faces {max_faces}; "
+                     "raise it with --max-faces)")
+
+
+def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
+                   ) -> list[Piece] | None:
+    """The file's pieces from this package's reader, or None to read it with trimesh.
+
+    Any failure of a native reader hands the file to trimesh: the reader refused a
+    feature it does not reproduce, or the bytes are malformed and trimesh's own message
+    (and behaviour) is the reference.
+    """
+    reader = _NATIVE[suffix]
+    try:
+        return reader(data, max_faces)
+    except TooManyFaces as exc:
+        raise _too_many(path, exc.faces, max_faces) from None
+    except MemoryError:
+        raise MeshError(f"cannot read mesh {path}: out of memory (lower --max-faces)"
+                        ) from None
+    except Exception:
+        return None
+
+
+def _read_stl(data: bytes, max_faces: int) -> list[Piece]:
+    return read_stl(data)
+
+
+def _read_obj(data: bytes, max_faces: int) -> list[Piece]:
+    return read_obj(data)
+
+
+#: Formats read without trimesh: reader(bytes, max_faces) -> pieces.
+_NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
+    ".stl": _read_stl, ".obj": _read_obj, ".dae": read_dae}
+
+
+def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
+    return MeshError(f"mesh {path} has {faces} faces, more than the limit "
+                     f"{max_faces} (raise it with --max-faces)")
+
+
+def _load_scene(path: Path, suffix: str):
+    import trimesh
+
+    kwargs = {"skip_materials": True} if suffix == ".obj" else {}
+    try:
+        # trimesh's default resolver reads only files under the mesh's folder and
+        # allow_remote=False keeps it off the network.
+        return trimesh.load(str(path), force="scene", process=False,
+                            file_type=suffix.lstrip("."), allow_remote=False, **kwargs)
+    except MeshError:
+        raise
+    except MemoryError:
+        raise MeshError(f"cannot read mesh {path}: out of memory (lower --max-faces)"
+                        ) from None
+    except RecursionError:
+        raise MeshError(f"cannot read mesh {path}: nested too deeply") from None
+    except Exception as exc:  # trimesh raises many types for corrupt bytes
+        raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
+
+
+# --- face counts before parsing ---------------------------------------------------------
+
+def declared_faces(stream: BinaryIO, suffix: str, size: int) -> int | None:
+    """Triangles the file holds, found without parsing it, or None when unknown.
+
+    Binary STL, PLY and OFF headers state the count; ASCII STL, OBJ and COLLADA are
+    scanned in chunks of ``_CHUNK`` bytes (a lower bound for polygons of more than three
+    corners, checked again after loading). glTF/GLB counts are taken after loading.
+    """
+    head = stream.read(4096)
+    stream.seek(0)
+    if suffix == ".stl":
+        if len(head) >= 84:
+            count = int(struct.unpack("<I", head[80:84])[0])
+            if size == 84 + 50 * count:
+                return count
+        return _count_pattern(stream, re.compile(rb"endfacet", re.IGNORECASE), 16)
+    if suffix == ".obj":
+        first = 1 if re.match(rb"f[ \t]", head) else 0
+        return first + _count_pattern(stream, re.compile(rb"\nf[ \t]"), 8)
+    if suffix == ".ply":
+        match = re.search(rb"\belement\s+face\s+([0-9]{1,19})\b", head)
+        return int(match.group(1)) if match else None
+    if suffix == ".off":
+        text = re.sub(rb"#[^\n]*", b"", head)
+        tokens = text.split()
+        if tokens and tokens[0].upper().endswith(b"OFF"):
+            tokens = tokens[1:]
+        if len(tokens) >= 2 and tokens[1].isdigit():
+            return int(tokens[1])
+        return None
+    if suffix == ".dae":
+        pattern = re.compile(
+            rb"<(?:triangles|polylist|polygons|trifans|tristrips)\b[^>]{0,400}?"
+            rb"\bcount\s*=\s*[\"']([0-9]{1,19})[\"']")
+        return _sum_pattern(stream, pattern, 512)
+    return None
+
+
+def declared_faces_in(data: bytes, suffix: str) -> int | None:
+    """:func:`declared_faces` of a whole file already in memory (same count, faster).
+
+    The STL and OBJ patterns cannot overlap themselves, so counting them with
+    ``bytes.count`` finds what the chunked scan finds.
+    """
+    if suffix == ".stl":
+        if len(data) >= 84:
+            count = int(struct.unpack("<I", data[80:84])[0])
+            if len(data) == 84 + 50 * count:
+                return count
+        return data.lower().count(b"endfacet")
+    if suffix == ".obj":
+        first = 1 if re.match(rb"f[ \t]", data[:4096]) else 0
+        return first + data.count(b"\nf ") + data.count(b"\nf\t")
+    return declared_faces(io.BytesIO(data), suffix, len(data))
+
+
+def _count_pattern(stream: BinaryIO, pattern: re.Pattern[bytes], width: int) -> int:
+    return _sum_pattern(stream, pattern, width, count_only=True)
+
+
+def _sum_pattern(stream: BinaryIO, pattern: re.Pattern[bytes], width: int,
+                 count_only: bool = False) -> int:
+    """Sum of group 1 (or number) of the matches of ``pattern`` over a stream.
+
+    Matches are at most ``width`` bytes long; a match is taken only when it starts
+    before the last ``width`` bytes of the window, the rest is carried over.
+    """
+    total = 0
+    carry = b""
+    stream.seek(0)
+    while True:
+        chunk = stream.read(_CHUNK)
+        window = carry + chunk
+        cut = len(window) if not chunk else max(len(window) - width, 0)
+        for match in pattern.finditer(window):
+            if match.start() >= cut:
+                break
+            total += 1 if count_only else int(match.group(1))
+        if not chunk:
+            return total
+        carry = window[cut:]
+
+
+def _collada_cause(stream: BinaryIO) -> str | None:
+    head = stream.read(4)
+    stream.seek(0)
+    if head.startswith(b"PK"):
+        return "zipped COLLADA is not supported"
+    return hostile_xml_stream_cause(stream, _CHUNK)
+
+
+def _scene_pieces(scene) -> list[Piece]:
+    """Every geometry instance of a trimesh scene, with its node's transform."""
+    import trimesh
+
+    pieces = []
+    for node in scene.graph.nodes_geometry:
+        transform, name = scene.graph[node]
+        geom = scene.geometry.get(name)
+        if not isinstance(geom, trimesh.Trimesh) or len(geom.faces) == 0:
+            continue
+        pieces.append(Piece(geom.vertices, geom.faces, np.asarray(transform, dtype=np.float64)))
+    return pieces
+
+
+def _concatenate(pieces: list[Piece], path: Path, max_faces: int
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Every piece in the scene's root frame, as one vertex and one face array.
+
+    The total is checked against ``max_faces`` before anything is copied: a small file
+    can instance one large mesh many times.
+    """
+    instances = [piece for piece in pieces if len(piece.faces) > 0]
+    total = sum(len(piece.faces) for piece in instances)
+    if total > max_faces:
+        raise _too_many(path, total, max_faces)
+    verts: list[np.ndarray] = []
+    faces: list[np.ndarray] = []
+    offset = 0
+    for piece in instances:
+        transform = np.asarray(piece.transform, dtype=np.float64)
+        v = np.asarray(piece.vertices, dtype=np.float64)
+        f = np.asarray(piece.faces, dtype=np.int64)
+        if f.ndim != 2 or f.shape[1] != 3 or v.ndim != 2 or v.shape[1] != 3:
+            raise MeshError(f"mesh {path} has malformed triangle arrays")
+        if f.min() < 0 or f.max() >= len(v):
+            raise MeshError(f"mesh {path} has faces that index missing vertices")
+        if transform.tobytes() == _IDENTITY_BYTES:
+            # what ``v @ I + 0`` gives, bit for bit, for finite coordinates (-0.0 becomes
+            # 0.0; inf and NaN stay non-finite and are refused below), without a BLAS call
+            v = v + 0.0
+        else:
+            v = v @ transform[:3, :3].T + transform[:3, 3]
+            if np.linalg.det(transform[:3, :3]) < 0:
+                f = f[:, ::-1]  # a mirroring node transform turns the faces inside out
+        verts.append(v)
+        faces.append(f + offset)
+        offset += len(v)
+    if not faces:
+        return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
+    if len(faces) == 1:
+        return np.ascontiguousarray(verts[0]), np.ascontiguousarray(faces[0])
+    return np.concatenate(verts), np.concatenate(faces)
+
+
+def _collada_unit(head: bytes) -> float | None:
+    """``<unit meter>`` found in the first ``_UNIT_HEAD`` bytes of a COLLADA file."""
+    match = re.search(rb"<unit\b[^>]*\bmeter\s*=\s*[\"']([0-9.eE+-]+)[\"']", head)
+    if not match:
+        return None
+    try:
+        value = float(match.group(1))
+    except ValueError:
+        return None
+    return value if np.isfinite(value) and value > 0 else None

@@ -1,0 +1,443 @@
+"""Turn a mesh file's triangles into closed, outward-oriented bodies, saying what it took.
+
+The stages, in order (each vectorised; see :mod:`meshgraph`, :mod:`holes`, :mod:`winding`):
+
+1. weld: merge exactly repeated vertices (STL triangle soup) and vertices closer than
+   ``WELD_RTOL`` of the mesh size (cracks between patches); drop degenerate triangles;
+   keep repeated triangles once, and cancel pairs of opposite ones (a shared inner wall);
+2. orient: make neighbouring faces agree across every two-sided edge (a patch is a set of
+   faces linked that way);
+3. close: cap each patch's boundary loops with fans (:func:`holes.close_holes`), so every
+   patch becomes a closed shell with a well-defined signed volume;
+4. turn outward: a shell nested in no other is turned to positive volume; a nested
+   shell keeps its orientation relative to its container, so an opposite one is a
+   cavity and a same-oriented one is a solid inside a solid (removed by the union);
+5. union: bodies whose bounding boxes overlap are united with manifold3d, so shared
+   volume counts once;
+6. group: each outward shell with the cavities directly inside it is one body.
+
+Shells that enclose no volume (flat sheets, stray triangles) are dropped with a note.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from urdfinertia.errors import MeshError
+from urdfinertia.inertia.polyhedron import face_volumes, used_vertices
+from urdfinertia.mesh.read.load import TriangleMesh
+from urdfinertia.mesh.repair.graph import (
+    EdgeTable,
+    cancel_duplicate_faces,
+    consistent_orientation,
+    drop_degenerate,
+    edge_table,
+    face_components,
+    is_closed_oriented,
+    split_vertices,
+    weld_vertices,
+)
+from urdfinertia.mesh.repair.holes import HoleCaps, cap_with_fans, close_holes
+from urdfinertia.mesh.repair.winding import closed_winding_numbers
+from urdfinertia.timing import StageTimes
+
+#: Vertices closer than this fraction of the bounding-box diagonal are merged.
+WELD_RTOL = 1e-6
+#: A shell whose volume is below this fraction of (its area)^1.5 encloses nothing.
+FLAT_RTOL = 1e-7
+#: Union results within this relative volume of the plain sum mean no overlap.
+OVERLAP_RTOL = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class RepairedBody:
+    """One closed body: an outward shell and any inward cavity shells inside it.
+
+    Attributes
+    ----------
+    vertices : (n, 3) float
+    faces : (m, 3) int
+        A closed surface (every edge used equally often in both directions), oriented
+        so that its signed volume integrals are those of the solid.
+    method : str
+        How the surface was obtained.
+    error_estimate : float or None
+        Estimated relative error of the volume, where the method has one.
+    notes : tuple of str
+        What was repaired on this body.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    method: str
+    error_estimate: float | None = None
+    notes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, eq=False)
+class RepairedMesh:
+    """All bodies of one mesh file, and notes on what was repaired for the whole file."""
+
+    bodies: tuple[RepairedBody, ...]
+    notes: tuple[str, ...] = ()
+
+
+#: Signed volume and area of each labelled shell: ``(volume, area)``.
+_Measures = tuple[np.ndarray, np.ndarray]
+
+
+@dataclass(frozen=True, eq=False)
+class _Shell:
+    """A closed, edge-connected surface of the repaired mesh."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    volume: float  # signed: negative for a cavity
+    caps: HoleCaps
+
+
+def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> RepairedMesh:
+    """Weld, orient, close, turn outward and unite the bodies of ``mesh``.
+
+    ``timer``, when given, gets the time spent in boolean unions as stage ``"union"``.
+
+    Raises
+    ------
+    MeshError
+        Non-finite or out-of-range input, or nothing that encloses a volume.
+    """
+    vertices, faces = _checked(mesh)
+    notes: list[str] = []
+    used = vertices[used_vertices(len(vertices), faces)]
+    size = float(np.linalg.norm(used.max(axis=0) - used.min(axis=0)))
+    if not size > 0:
+        raise MeshError("mesh is a single point: it encloses no volume")
+    n_in = len(used)
+    vertices, faces = weld_vertices(vertices, faces, WELD_RTOL * size)
+    if len(vertices) < n_in:
+        notes.append(f"merged {n_in - len(vertices)} duplicate vertices")
+    n_faces = len(faces)
+    faces = drop_degenerate(vertices, faces, (1e-12 * size) ** 2)
+    if len(faces) < n_faces:
+        notes.append(f"dropped {n_faces - len(faces)} degenerate triangles")
+    faces, repeats, cancelled = cancel_duplicate_faces(faces)
+    if repeats:
+        notes.append(f"dropped {repeats} repeated triangles")
+    if cancelled:
+        notes.append(f"removed {cancelled} pairs of coincident opposite triangles")
+    if len(faces) == 0:
+        raise MeshError("mesh has no non-degenerate triangles: it encloses no volume")
+    table = edge_table(faces)
+    # closed and oriented already (most CAD exports): no flips, no caps, and the edge
+    # components are both the orientation patches and the shells
+    known = face_components(faces, table) if is_closed_oriented(table) else None
+    oriented, flipped, non_orientable, measures = _orient(vertices, faces, table, known)
+    if flipped:
+        notes.append(f"reoriented {flipped} of {len(faces)} faces outward")
+    if non_orientable:
+        notes.append(f"{non_orientable} faces lie on a non-orientable surface: "
+                     "volume is approximate")
+    if known is not None:  # nothing to cap; turning whole shells keeps the components
+        shells, flat = _split(vertices, oriented, HoleCaps.none(), known, measures)
+    else:
+        closed_v, closed_f, caps = close_holes(vertices, oriented)
+        shells, flat = _split(closed_v, closed_f, caps)
+    if flat:
+        notes.append(f"ignored {flat} pieces enclosing no volume (flat or stray triangles)")
+    if not shells:
+        raise MeshError("mesh encloses no volume (flat sheet, single triangle or "
+                        "degenerate surface)")
+    groups, loose = _group(shells)
+    if loose:
+        notes.append(f"turned {loose} inverted shells that lie in no other body outward")
+    bodies, union_note = _unite(shells, groups, timer if timer is not None else StageTimes())
+    if union_note:
+        notes.append(union_note)
+    if len(bodies) > 1:
+        notes.append(f"{len(bodies)} bodies")
+    return RepairedMesh(tuple(bodies), tuple(notes))
+
+
+def _checked(mesh: TriangleMesh) -> tuple[np.ndarray, np.ndarray]:
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    faces = np.asarray(mesh.faces)
+    if vertices.ndim != 2 or vertices.shape[1] != 3:
+        raise MeshError(f"mesh vertices must have shape (n, 3), got {vertices.shape}")
+    if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
+        raise MeshError(f"mesh faces must have shape (m, 3) with m > 0, got {faces.shape}")
+    faces = faces.astype(np.int64)
+    if faces.min() < 0 or faces.max() >= len(vertices):
+        raise MeshError("mesh faces index vertices that do not exist")
+    if not np.all(np.isfinite(vertices[used_vertices(len(vertices), faces)])):
+        raise MeshError("mesh has non-finite (NaN or infinite) vertex coordinates")
+    return vertices, faces
+
+
+def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
+            closed: tuple[int, np.ndarray] | None,
+            ) -> tuple[np.ndarray, int, int, _Measures | None]:
+    """Faces oriented consistently per patch and outward per closed patch.
+
+    Each orientation patch is closed on its own (private vertices, so loops never cross
+    patches) to get a signed volume. Patches in no other are turned to positive volume;
+    a nested patch keeps its input orientation relative to its container (cavity or
+    solid-in-solid). Patches enclosing no volume (stray triangles, sheets) keep the
+    orientation most of their input faces had, inverted if the largest patch was.
+
+    ``table`` is ``edge_table(faces)``. ``closed``, when every edge has two opposite
+    faces (:func:`is_closed_oriented`), is ``face_components(faces)``: then no face
+    flips, the patches are those components and each is closed already, so the private
+    copies are skipped (they would hold the same coordinates, hence the same sums).
+
+    Returns the oriented faces, how many input faces were reversed, how many lie on
+    non-orientable patches, and, when ``closed`` is given and no patch was turned, the
+    patches' volumes and areas (which :func:`_split` would compute again).
+    """
+    if closed is not None:
+        flip = np.zeros(len(faces), dtype=bool)
+        non_orientable = flip
+        _, patch = closed
+        propagated = faces
+        own_v, own_f, face_patch = vertices, faces, patch
+    else:
+        flip, patch, non_orientable = consistent_orientation(faces, table)
+        propagated = np.where(flip[:, None], faces[:, ::-1], faces)
+        own_v, own_f, face_patch = _patch_copies(vertices, propagated, patch)
+    n_patch = int(patch.max() + 1)
+    centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
+    tri = vertices[faces] - centre
+    own_tri = tri if closed is not None else own_v[own_f] - centre
+    volume = np.bincount(face_patch, weights=face_volumes(own_tri), minlength=n_patch)
+    area = np.bincount(patch, weights=_areas(tri), minlength=n_patch)
+    flat = ~(np.abs(volume) > FLAT_RTOL * area ** 1.5)
+    majority_flipped = 2 * np.bincount(patch, weights=flip, minlength=n_patch) > \
+        np.bincount(patch, minlength=n_patch)
+    given = np.where(majority_flipped, -1.0, 1.0) * np.sign(volume)
+    final = _nest_signs(own_v, own_f, face_patch, np.abs(volume), given, flat)
+    turn = np.sign(volume) != final
+    if np.any(~flat):
+        big = int(np.argmax(np.where(flat, -1.0, np.abs(volume))))
+        inverted = given[big] != final[big]
+        turn[flat] = majority_flipped[flat] ^ inverted
+    reverse = turn[patch]
+    oriented = np.where(reverse[:, None], propagated[:, ::-1], propagated)
+    flipped = int(np.count_nonzero(flip ^ reverse))
+    measures = (volume, area) if closed is not None and not turn.any() else None
+    return oriented, flipped, int(np.count_nonzero(non_orientable)), measures
+
+
+def _patch_copies(vertices: np.ndarray, faces: np.ndarray, patch: np.ndarray,
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each patch on private vertices, capped with fans: vertices, faces, patch per face."""
+    count = int(patch.max()) + 1
+    uniq, local, bounds = split_vertices(len(vertices), faces, patch, count)
+    own_v, own_f = cap_with_fans(vertices[uniq], local)
+    vertex_patch = np.concatenate([np.repeat(np.arange(count), np.diff(bounds)),
+                                   np.zeros(len(own_v) - len(uniq), np.int64)])
+    return own_v, own_f, np.concatenate([patch, vertex_patch[own_f[len(local):, 0]]])
+
+
+def _nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
+                size: np.ndarray, given: np.ndarray, skip: np.ndarray) -> np.ndarray:
+    """Wanted sign of each labelled closed surface's volume (+1 solid, -1 cavity).
+
+    A surface in no other is a solid. A nested one keeps its ``given`` orientation
+    relative to its innermost container: opposite is a cavity, same is a solid.
+    Surfaces marked ``skip`` take part in nothing and get +1.
+    """
+    k = len(size)
+    final = np.ones(k)
+    live = np.flatnonzero(~skip)
+    if len(live) < 2:
+        return final
+    order = np.argsort(label, kind="stable")
+    bounds = np.searchsorted(label[order], np.arange(k + 1))
+    tri = vertices[faces]
+    corner_lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
+    corner_hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
+    lo = np.minimum.reduceat(corner_lo[order], bounds[:-1])  # every label has faces
+    hi = np.maximum.reduceat(corner_hi[order], bounds[:-1])
+    cand = (np.all(lo[:, None] >= lo[None], axis=2) & np.all(hi[:, None] <= hi[None], axis=2)
+            & (size[:, None] < size[None]) & ~skip[:, None] & ~skip[None])
+    inside = np.zeros((k, k), dtype=bool)  # inside[p, q]: surface p lies in surface q
+    probes = _probe_points(tri[order], bounds) if cand.any() else None
+    for q in np.flatnonzero(cand.any(axis=0)):  # one winding evaluation per container
+        ps = np.flatnonzero(cand[:, q])
+        mine = order[bounds[q]:bounds[q + 1]]
+        w = closed_winding_numbers(probes[ps], vertices, faces[mine])
+        inside[ps, q] = np.abs(w) > 0.5
+    for p in live[np.argsort(-size[live])]:  # containers are larger: settled first
+        qs = np.flatnonzero(inside[p])
+        if len(qs):
+            q = qs[np.argmin(size[qs])]
+            final[p] = final[q] if given[p] == given[q] else -final[q]
+    return final
+
+
+def _probe_points(triangles: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """:func:`_probe_point` of each group ``triangles[bounds[i]:bounds[i + 1]]`` at once."""
+    area = np.linalg.norm(np.cross(triangles[:, 1] - triangles[:, 0],
+                                   triangles[:, 2] - triangles[:, 0]), axis=1)
+    best = np.maximum.reduceat(area, bounds[:-1])  # every group has triangles
+    at_best = np.flatnonzero(area == np.repeat(best, np.diff(bounds)))
+    first = at_best[np.searchsorted(at_best, bounds[:-1])]  # argmax: the first largest
+    return triangles[first].mean(axis=1)
+
+
+def _probe_point(triangles: np.ndarray) -> np.ndarray:
+    """The centroid of the largest of ``triangles``, for inside/outside tests."""
+    area = np.linalg.norm(np.cross(triangles[:, 1] - triangles[:, 0],
+                                   triangles[:, 2] - triangles[:, 0]), axis=1)
+    return triangles[int(np.argmax(area))].mean(axis=0)
+
+
+def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
+           known: tuple[int, np.ndarray] | None = None, measures: _Measures | None = None,
+           ) -> tuple[list[_Shell], int]:
+    """Edge-connected closed shells; those enclosing no volume are counted and dropped.
+
+    ``known`` is ``face_components(faces)`` when the caller has it already, ``measures``
+    each component's signed volume and area.
+    """
+    count, label = known if known is not None else face_components(faces)
+    vertex_label = np.zeros(len(vertices), dtype=np.int64)
+    vertex_label[faces.reshape(-1)] = np.repeat(label, 3)
+    if measures is None:
+        centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
+        tri = vertices[faces] - centre
+        measures = (np.bincount(label, weights=face_volumes(tri), minlength=count),
+                    np.bincount(label, weights=_areas(tri), minlength=count))
+    volume, area = measures
+    solid = np.abs(volume) > FLAT_RTOL * area ** 1.5
+    order = np.argsort(label, kind="stable")
+    bounds = np.searchsorted(label[order], np.arange(count + 1))
+    # each shell's sorted vertices and its faces re-indexed into them, for all shells at
+    # once, shell by shell, vertices ascending within
+    uniq, local, vbounds = split_vertices(len(vertices), faces[order], label[order], count)
+    loop_label = vertex_label[caps.vertex]
+    shells = []
+    for c in np.flatnonzero(solid):  # one iteration per shell, slicing only
+        used = uniq[vbounds[c]:vbounds[c + 1]]
+        shells.append(_Shell(vertices[used], local[bounds[c]:bounds[c + 1]] - vbounds[c],
+                             float(volume[c]), caps.subset(loop_label == c)))
+    return shells, int(np.count_nonzero(~solid))
+
+
+def _areas(tri: np.ndarray) -> np.ndarray:
+    """(m,) area of each triangle of ``tri`` (m, 3 corners, 3)."""
+    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
+                                axis=1)
+
+
+def _group(shells: list[_Shell]) -> tuple[list[tuple[int, list[int]]], int]:
+    """``[(outer shell, [its cavities])]`` and how many stray inverted shells were turned.
+
+    A negative shell inside a positive one is a cavity of the smallest such container;
+    one inside none is a body the wrong way round, turned outward.
+    """
+    positive = [i for i, s in enumerate(shells) if s.volume > 0]
+    negative = [i for i, s in enumerate(shells) if s.volume < 0]
+    cavities: dict[int, list[int]] = {i: [] for i in positive}
+    lo = np.array([s.vertices.min(axis=0) for s in shells]).reshape(-1, 3)
+    hi = np.array([s.vertices.max(axis=0) for s in shells]).reshape(-1, 3)
+    pos, neg = np.array(positive, dtype=np.int64), np.array(negative, dtype=np.int64)
+    boxed = (np.all(lo[neg][:, None] >= lo[pos][None], axis=2)
+             & np.all(hi[neg][:, None] <= hi[pos][None], axis=2))  # (cavity, container)
+    inside = np.zeros_like(boxed)
+    probes = {c: _probe_point(shells[c].vertices[shells[c].faces])
+              for c in neg[boxed.any(axis=1)].tolist()}
+    for j in np.flatnonzero(boxed.any(axis=0)):  # one winding evaluation per container
+        rows = np.flatnonzero(boxed[:, j])
+        q = shells[pos[j]]
+        w = closed_winding_numbers(np.array([probes[c] for c in neg[rows].tolist()]),
+                                   q.vertices, q.faces)
+        inside[rows, j] = np.abs(w) > 0.5
+    loose = 0
+    for row, c in enumerate(negative):
+        home = pos[inside[row]].tolist()
+        if home:
+            cavities[min(home, key=lambda q: shells[q].volume)].append(c)
+        else:
+            s = shells[c]
+            shells[c] = _Shell(s.vertices, s.faces[:, ::-1].copy(), -s.volume, s.caps)
+            cavities[c] = []
+            loose += 1
+    return list(cavities.items()), loose
+
+
+def _body(shells: list[_Shell], outer: int, cavities: list[int]) -> RepairedBody:
+    members = [shells[outer]] + [shells[c] for c in cavities]
+    offsets = np.cumsum([0] + [len(s.vertices) for s in members])
+    vertices = np.concatenate([s.vertices for s in members])
+    faces = np.concatenate([s.faces + o for s, o in zip(members, offsets[:-1], strict=True)])
+    volume = sum(s.volume for s in members)
+    loops = sum(s.caps.loops for s in members)
+    planar = sum(int(s.caps.planar.sum()) for s in members)
+    uncertainty = sum(float(s.caps.uncertainty.sum()) for s in members)
+    notes: list[str] = []
+    error = 0.0
+    if loops == 0:
+        method = "exact (closed mesh)"
+    elif planar == loops:
+        method = f"exact after closing {loops} planar holes"
+    else:
+        method = f"closed {loops} holes with caps (estimate)"
+        error = uncertainty / volume
+        area = _areas(vertices[faces]).sum()
+        share = sum(float(s.caps.area.sum()) for s in members) / area
+        notes.append(f"open mesh: closed {loops} holes ({100 * share:.2g}% of the surface), "
+                     f"volume estimated within ~{100 * error:.2g}%")
+    if cavities:
+        notes.append(f"{len(cavities)} cavities subtracted")
+    return RepairedBody(vertices, faces, method, error, tuple(notes))
+
+
+def _unite(shells: list[_Shell], groups: list[tuple[int, list[int]]], timer: StageTimes,
+           ) -> tuple[list[RepairedBody], str]:
+    """Bodies, with those whose bounding boxes overlap replaced by their boolean union."""
+    bodies = [_body(shells, o, c) for o, c in groups]
+    if len(bodies) < 2:
+        return bodies, ""
+    lo = np.array([b.vertices.min(axis=0) for b in bodies])
+    hi = np.array([b.vertices.max(axis=0) for b in bodies])
+    touch = np.all((lo[:, None] < hi[None]) & (lo[None] < hi[:, None]), axis=2)
+    np.fill_diagonal(touch, False)
+    involved = np.flatnonzero(touch.any(axis=1))
+    if len(involved) == 0:
+        return bodies, ""
+    from urdfinertia.mesh.repair.union import union_bodies
+
+    chosen = [bodies[i] for i in involved]
+    with timer.stage("union"):
+        united = union_bodies(chosen)
+    if united is None:
+        return bodies, (f"{len(involved)} bodies may overlap but are not manifold: "
+                        "shared volume may be counted twice")
+    before = sum(_volume(b.vertices, b.faces) for b in chosen)
+    after = _volume(*united)
+    if abs(before - after) <= OVERLAP_RTOL * before:
+        return bodies, ""
+    rest = [b for i, b in enumerate(bodies) if not touch[i].any()]
+    shells_u, _ = _split(*united, HoleCaps.none())
+    groups_u, _ = _group(shells_u)
+    exact = all(b.method.startswith("exact") for b in chosen)
+    base = "exact" if exact else "holes closed with caps (estimate)"
+    error = max(b.error_estimate or 0.0 for b in chosen)
+    notes = tuple(dict.fromkeys(n for b in chosen for n in b.notes))
+    new = []
+    for o, c in groups_u:
+        body = _body(shells_u, o, c)
+        new.append(RepairedBody(body.vertices, body.faces,
+                                f"{base}; boolean union of overlapping bodies (manifold3d)",
+                                error, notes + body.notes))
+    note = (f"united {len(involved)} overlapping bodies into {len(new)}: removed "
+            f"{100 * (before - after) / before:.3g}% double-counted volume")
+    return rest + new, note
+
+
+def _volume(vertices: np.ndarray, faces: np.ndarray) -> float:
+    centre = vertices.mean(axis=0)
+    return float(face_volumes(vertices[faces] - centre).sum())
+

@@ -1,0 +1,51 @@
+"""Plain-data (JSON-ready) views of results for ``--json``."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from urdfinertia.inertia.massprops import MassProperties
+from urdfinertia.link.results import FixResult, LinkResult
+
+
+def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:
+    moments, axes = mp.principal()
+    i = mp.inertia
+    return {
+        "mass": mp.mass,
+        "com": mp.com.tolist(),
+        "inertia": {"ixx": i[0, 0], "ixy": i[0, 1], "ixz": i[0, 2],
+                    "iyy": i[1, 1], "iyz": i[1, 2], "izz": i[2, 2]},
+        "principal_moments": moments.tolist(),
+        "principal_axes": axes.T.tolist(),
+    }
+
+
+def link_dict(r: LinkResult) -> dict[str, Any]:
+    out: dict[str, Any] = {"link": r.name, "status": r.status, "geometry": r.geometry,
+                           "warnings": list(r.warnings)}
+    if r.previous is not None:
+        prev = r.previous
+        out["previous"] = {"mass": prev.mass, "com": list(prev.origin.xyz),
+                           "inertia_in_link_axes": np.asarray(prev.tensor_in_link()).tolist()}
+    if r.assembly is not None:
+        out["result"] = mass_properties_dict(r.assembly.total)
+        out["mass_source"] = r.assembly.mass_source
+        out["parts"] = [
+            {"name": pr.part.name, "element": pr.part.element, "method": pr.part.method,
+             "volume": pr.part.volume, "density": pr.density, "cavity": pr.part.cavity,
+             "notes": list(pr.part.notes), **mass_properties_dict(pr.mass_properties)}
+            for pr in r.assembly.parts
+        ]
+    return out
+
+
+def fix_result_dict(result: FixResult) -> dict[str, Any]:
+    return {
+        "file": str(result.path),
+        "robot": result.robot.name,
+        "changed": result.changed,
+        "links": [link_dict(r) for r in result.links],
+    }

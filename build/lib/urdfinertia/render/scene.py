@@ -1,0 +1,298 @@
+"""What the report's 3-D view shows: the robot at its zero configuration, and boxes.
+
+Three things, all in the world frame of the robot's root link(s):
+
+* link poses at the zero configuration (every joint at 0, so a link's pose is the product
+  of the joint origins from the root);
+* the links' display geometry as triangle meshes, decimated to a face budget so that
+  the HTML stays small;
+* per link and per source (existing / recomputed inertial) the *equivalent-inertia box*:
+  the uniform box with the same mass and principal moments, oriented along the principal
+  axes and centred at the CoM, as Gazebo's and RViz's "view inertia" draw it.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.descriptions.model import (
+    Box,
+    Capsule,
+    Cylinder,
+    Ellipsoid,
+    Inertial,
+    Link,
+    Mesh,
+    Robot,
+    Shape,
+    Sphere,
+)
+from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.inertia.massprops import MassProperties
+from urdfinertia.mesh.read.load import load_mesh
+
+#: Default face budget of the whole 3-D view (about 16 bytes per face in the HTML).
+DEFAULT_VIEW_FACES = 150_000
+#: No displayed mesh is decimated below this many faces, whatever the budget.
+MIN_FACES_PER_MESH = 200
+VIEW_MODES = ("visual", "collision")
+
+
+# --- kinematics -------------------------------------------------------------------------
+def zero_configuration_poses(robot: Robot) -> tuple[dict[str, np.ndarray], tuple[str, ...]]:
+    """(4, 4) pose of every link in the root frame with every joint at 0.
+
+    Returns the poses and notes on anything odd (several roots, links no joint reaches,
+    joints naming unknown links). Several roots all sit at the identity; so does a link
+    that no chain from a root reaches (a kinematic loop).
+    """
+    names = [link.name for link in robot.links]
+    known = set(names)
+    notes: list[str] = []
+    children: dict[str, list] = {name: [] for name in names}
+    has_parent: set[str] = set()
+    for joint in robot.joints:
+        if joint.parent not in known or joint.child not in known:
+            notes.append(f"joint '{joint.name}' names an unknown link: not drawn")
+            continue
+        children[joint.parent].append(joint)
+        has_parent.add(joint.child)
+    roots = [name for name in names if name not in has_parent]
+    if len(roots) > 1:
+        notes.append(f"{len(roots)} root links ({', '.join(roots[:5])}"
+                     f"{', ...' if len(roots) > 5 else ''}): all drawn at the origin")
+    poses: dict[str, np.ndarray] = {root: np.eye(4) for root in roots}
+    queue = deque(roots)
+    while queue:
+        parent = queue.popleft()
+        for joint in children[parent]:
+            if joint.child in poses:
+                continue
+            poses[joint.child] = poses[parent] @ joint.origin.matrix()
+            queue.append(joint.child)
+    missing = [name for name in names if name not in poses]
+    if missing:
+        notes.append(f"{len(missing)} link(s) not reached from a root (kinematic loop?): "
+                     "drawn at the origin")
+        for name in missing:
+            poses[name] = np.eye(4)
+    return poses, tuple(notes)
+
+
+# --- equivalent-inertia boxes -----------------------------------------------------------
+def box_lengths(moments: np.ndarray, mass: float) -> tuple[np.ndarray, bool]:
+    """Full side lengths (m) of the uniform box with principal ``moments`` and ``mass``.
+
+    A box with sides a, b, c has ``I1 = m (b^2 + c^2) / 12`` etc., so
+    ``a = sqrt(6 (I2 + I3 - I1) / m)``. A tensor that breaks the triangle inequality
+    (``I2 + I3 < I1``) has no such box: the negative radicand is clipped to 0 and the
+    second value returned is True.
+    """
+    i = np.asarray(moments, dtype=np.float64)
+    if i.shape != (3,):
+        raise ValueError(f"moments must have shape (3,), got {i.shape}")
+    if not mass > 0:
+        raise ValueError("mass must be positive")
+    radicand = 6.0 * (i.sum() - 2.0 * i) / mass
+    # Round-off on flat bodies makes an exact 0 slightly negative: not a broken tensor.
+    slack = 1e-9 * max(float(np.abs(radicand).max()), np.finfo(float).tiny)
+    clipped = bool(np.any(radicand < -slack))
+    return np.sqrt(np.clip(radicand, 0.0, None)), clipped
+
+
+@dataclass(frozen=True, eq=False)
+class InertiaBox:
+    """An equivalent-inertia box in the world frame.
+
+    center : (3,) float, m. axes : (3, 3) float, columns are the box's edge directions
+    (principal axes). lengths : (3,) float, full side lengths along those axes, m.
+    clipped : the tensor breaks the triangle inequality (a side was clipped to 0).
+    """
+
+    link: str
+    source: str  # "existing" | "recomputed"
+    mass: float
+    center: np.ndarray
+    axes: np.ndarray
+    lengths: np.ndarray
+    clipped: bool
+
+    def triangles(self) -> tuple[np.ndarray, np.ndarray]:
+        """(8, 3) corner positions and (12, 3) triangle indices."""
+        signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)],
+                         dtype=np.float64)
+        corners = self.center + (signs * (0.5 * self.lengths)) @ self.axes.T
+        return corners, _BOX_FACES
+
+    def edge_polyline(self) -> np.ndarray:
+        """(36, 3) the 12 edges as point pairs, each followed by a NaN row (a line break)."""
+        corners, _ = self.triangles()
+        out = np.full((len(_BOX_EDGES), 3, 3), np.nan)
+        out[:, 0], out[:, 1] = corners[_BOX_EDGES[:, 0]], corners[_BOX_EDGES[:, 1]]
+        return out.reshape(-1, 3)
+
+
+# Corner k has signs (x, y, z) = bits (4, 2, 1) of k; two triangles per side.
+_BOX_FACES = np.array([
+    [0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5],  # x = -1, x = +1
+    [0, 4, 5], [0, 5, 1], [2, 3, 7], [2, 7, 6],  # y = -1, y = +1
+    [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3],  # z = -1, z = +1
+], dtype=np.int32)
+# Two corners share an edge when their signs differ in exactly one bit.
+_BOX_EDGES = np.array([(k, k | bit) for k in range(8) for bit in (4, 2, 1) if not k & bit])
+
+
+def equivalent_box(mp: MassProperties, link_pose: np.ndarray, link: str, source: str,
+                   ) -> InertiaBox:
+    """The equivalent-inertia box of ``mp`` (given in the link frame) in the world frame."""
+    moments, axes = mp.principal()
+    lengths, clipped = box_lengths(moments, mp.mass)
+    rot = np.asarray(link_pose)[:3, :3]
+    center = rot @ mp.com + np.asarray(link_pose)[:3, 3]
+    return InertiaBox(link, source, mp.mass, center, rot @ axes, lengths, clipped)
+
+
+def existing_mass_properties(inertial: Inertial | None) -> tuple[MassProperties | None, str]:
+    """The inertial as written, in the link frame, or None and why it is not usable."""
+    if inertial is None:
+        return None, "no <inertial>"
+    values = (inertial.mass, inertial.ixx, inertial.ixy, inertial.ixz, inertial.iyy,
+              inertial.iyz, inertial.izz)
+    if not all(np.isfinite(v) for v in values):
+        return None, "invalid: non-finite values"
+    if not inertial.mass > 0:
+        return None, f"invalid: mass {inertial.mass:g} kg is not positive"
+    try:
+        mp = MassProperties(inertial.mass, inertial.origin.xyz, inertial.tensor_in_link())
+    except ValueError as exc:
+        return None, f"invalid: {exc}"
+    return mp, ""
+
+
+# --- display geometry -------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class ViewMesh:
+    """One displayed ``<visual>``/``<collision>`` in the world frame, decimated.
+
+    vertices : (n, 3) float32, m. faces : (m, 3) int32. source_faces : faces before
+    decimation. method : how it was reduced ("as is", "quadric decimation", ...).
+    """
+
+    link: str
+    label: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    source_faces: int
+    method: str
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    poses: dict[str, np.ndarray]
+    meshes: tuple[ViewMesh, ...]
+    notes: tuple[str, ...]
+
+    @property
+    def face_count(self) -> int:
+        return sum(len(m.faces) for m in self.meshes)
+
+
+def decimate(vertices: np.ndarray, faces: np.ndarray, max_faces: int,
+             ) -> tuple[np.ndarray, np.ndarray, str]:
+    """Reduce a triangle mesh to at most about ``max_faces`` faces, for display only.
+
+    Quadric decimation (trimesh + fast-simplification) when it works; otherwise an evenly
+    spaced subset of the faces (holes, but the shape stays recognisable).
+    """
+    if len(faces) <= max_faces:
+        return vertices, faces, "as is"
+    import trimesh
+
+    try:
+        mesh = trimesh.Trimesh(vertices, faces, process=True)  # merges duplicate vertices
+        small = mesh.simplify_quadric_decimation(face_count=max_faces)
+        if 0 < len(small.faces) <= 1.5 * max_faces:
+            return (np.asarray(small.vertices), np.asarray(small.faces),
+                    "quadric decimation")
+    except Exception:  # missing fast-simplification or a mesh it cannot handle
+        pass
+    keep = np.linspace(0, len(faces) - 1, max_faces).astype(np.int64)
+    return vertices, faces[keep], "face subset (decimation unavailable)"
+
+
+def primitive_triangles(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
+    """Coarse triangles of a URDF primitive in its geometry frame."""
+    import trimesh
+
+    if isinstance(shape, Box):
+        m = trimesh.creation.box(extents=shape.size)
+    elif isinstance(shape, Cylinder):
+        m = trimesh.creation.cylinder(radius=shape.radius, height=shape.length, sections=24)
+    elif isinstance(shape, Sphere):
+        m = trimesh.creation.icosphere(subdivisions=2, radius=shape.radius)
+    elif isinstance(shape, Capsule):
+        m = trimesh.creation.capsule(height=shape.length, radius=shape.radius, count=[16, 8])
+    elif isinstance(shape, Ellipsoid):
+        m = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
+        m.apply_scale(shape.radii)
+    else:
+        raise TypeError(f"not a primitive: {shape!r}")
+    return np.asarray(m.vertices), np.asarray(m.faces)
+
+
+def view_refs(link: Link, mode: str):
+    """The elements drawn for a link: ``mode``'s, or the other role's when it has none."""
+    first, second = (link.visuals, link.collisions) if mode == "visual" else (
+        link.collisions, link.visuals)
+    return first or second
+
+
+def build_scene(robot: Robot, meshes: MeshLibrary, *, view: str = "visual",
+                face_budget: int = DEFAULT_VIEW_FACES) -> Scene:
+    """Poses and decimated display meshes of every link at the zero configuration.
+
+    The face budget is shared evenly by the mesh elements (primitives are small anyway).
+    A display mesh that cannot be read is left out with a note: the report still shows
+    the inertials.
+    """
+    if view not in VIEW_MODES:
+        raise ValueError(f"view must be one of {VIEW_MODES}")
+    poses, kin_notes = zero_configuration_poses(robot)
+    notes = list(kin_notes)
+    urdf_dir = (robot.path or Path("robot.urdf")).parent
+    items = [(link, ref) for link in robot.links for ref in view_refs(link, view)]
+    n_mesh = sum(isinstance(ref.shape, Mesh) for _, ref in items)
+    cap = max(MIN_FACES_PER_MESH, face_budget // max(n_mesh, 1))
+    memo: dict[Path, tuple[np.ndarray, np.ndarray, int, str]] = {}
+    out: list[ViewMesh] = []
+    for link, ref in items:
+        shape = ref.shape
+        if isinstance(shape, Mesh):
+            try:
+                path = meshes.resolve(shape.filename, urdf_dir).resolve()
+                if path not in memo:
+                    tri = load_mesh(path, meshes.max_faces)
+                    v, f, method = decimate(tri.vertices, tri.faces, cap)
+                    memo[path] = (v, f, len(tri.faces), method)
+            except UrdfInertiaError as exc:
+                notes.append(f"link '{link.name}' {ref.label}: not drawn ({exc.cause})")
+                continue
+            v, f, n_source, method = memo[path]
+            scale = np.asarray(shape.scale, dtype=np.float64)
+            v = v * scale
+            if np.prod(scale) < 0:
+                f = f[:, ::-1]
+        else:
+            v, f = primitive_triangles(shape)
+            n_source, method = len(f), "primitive"
+        world = poses[link.name] @ ref.origin.matrix()
+        v = v @ world[:3, :3].T + world[:3, 3]
+        out.append(ViewMesh(link.name, ref.label, v.astype(np.float32), f.astype(np.int32),
+                            n_source, method))
+    return Scene(poses, tuple(out), tuple(notes))
+

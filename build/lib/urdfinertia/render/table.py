@@ -1,0 +1,131 @@
+"""Terminal tables (rich) for per-link results."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+from urdfinertia.analysis.explain import Breakdown, Contribution, link_breakdown
+from urdfinertia.link.results import LinkResult
+
+
+def _g(x: float) -> str:
+    return f"{x:.4g}"
+
+
+def fix_table(results: Sequence[LinkResult], title: str) -> Table:
+    table = Table(title=title, show_lines=False)
+    for col in ("link", "mass kg", "CoM m", "principal moments kg m^2", "geometry", "notes"):
+        table.add_column(col, overflow="fold")
+    for r in results:
+        if r.assembly is None:
+            table.add_row(r.name, "-", "-", "-", r.geometry, "; ".join(r.warnings))
+            continue
+        t = r.assembly.total
+        moments, _ = t.principal()
+        parts = r.assembly.parts
+        methods = sorted({p.part.method for p in parts})
+        if parts:
+            geo = f"{r.geometry}: {len(parts)} part{'s' if len(parts) != 1 else ''}"
+            geo += f" ({', '.join(methods)})"
+        else:  # --repair-only: the written values, corrected, no geometry involved
+            geo = r.geometry
+        table.add_row(
+            r.name,
+            _g(t.mass),
+            _vec(t.com, r.size),  # round-off below 1e-12 x size shown as 0
+            " ".join(_g(m) for m in moments),
+            geo,
+            "; ".join((r.assembly.mass_source, *r.warnings)),
+        )
+    return table
+
+
+def print_fix_table(results: Sequence[LinkResult], title: str, console: Console) -> None:
+    console.print(fix_table(results, title))
+    from_spec = [r for r in results if r.geometry == "spec" and r.assembly is not None]
+    if from_spec:
+        console.print(element_table(from_spec, "per-element contributions (links in the spec)"))
+
+
+#: Values below this fraction of the link's scale are round-off and shown as 0.
+_NOISE = 1e-12
+
+
+def _vec(v: Iterable[float] | None, scale: float = 0.0) -> str:
+    if v is None:
+        return "-"
+    return " ".join(_g(0.0 if abs(c) < _NOISE * scale else float(c)) for c in v)
+
+
+def _tensor_cell(m: np.ndarray | None, scale: float = 0.0) -> str:
+    """Diagonal on the first line, products (ixy ixz iyz, URDF signs) on the second."""
+    if m is None:
+        return "-"
+    return (_vec((m[0, 0], m[1, 1], m[2, 2]), scale) + "\n"
+            + _vec((m[0, 1], m[0, 2], m[1, 2]), scale))
+
+
+def _pct(share: Iterable[float]) -> str:
+    return " ".join(f"{100 * float(s):.1f}" for s in share)
+
+
+def element_table(results: Sequence[LinkResult], title: str) -> Table:
+    """Per-element contributions of every link (mass, CoM, share of principal moments)."""
+    table = Table(title=title)
+    for col in ("link", "element", "mass kg", "mass %", "CoM in link frame m",
+                "share of principal moments % (λ1 λ2 λ3)"):
+        table.add_column(col, overflow="fold")
+    for r in results:
+        if r.assembly is None:
+            continue
+        b = link_breakdown(r)
+        for i, e in enumerate(b.elements):
+            c = e.element
+            table.add_row(r.name if i == 0 else "", c.name, _g(c.mass),
+                          f"{100 * c.mass / b.total.mass:.1f}", _vec(c.com, r.size),
+                          _pct(c.share),
+                          end_section=i == len(b.elements) - 1)
+    return table
+
+
+def breakdown_table(b: Breakdown) -> Table:
+    """``urdf-inertia explain``: elements, their parts and the link total (paper sec. 5)."""
+    t = b.total
+    size = float(np.sqrt(np.trace(t.inertia) / t.mass) + np.linalg.norm(t.com))
+    big = float(np.abs(t.inertia).max())
+    table = Table(title=f"link '{b.link}' ({b.geometry}; {b.mass_source})",
+                  caption="tensors: ixx iyy izz / ixy ixz iyz, kg m^2, link axes, URDF signs\n"
+                          f"principal moments λ1 λ2 λ3 = {_vec(b.moments)} kg m^2\n"
+                          f"principal axes e1; e2; e3 = "
+                          + "; ".join(_vec(a, 1.0) for a in b.axes.T))
+    for col in ("element / part", "mass kg", "CoM in link frame m", "I about own CoM (I_sp)",
+                "I about link CoM (I_p,s)", "share % (λ1 λ2 λ3)", "how"):
+        table.add_column(col, overflow="fold", no_wrap=col != "how")
+    for e in b.elements:
+        c = e.element
+        table.add_row(f"[bold]{c.name}[/bold]", _g(c.mass), _vec(c.com, size),
+                      _tensor_cell(c.inertia_own, big), _tensor_cell(c.inertia_link, big),
+                      _pct(c.share), "")
+        if len(e.parts) == 1 and e.parts[0].name.rsplit("/", 1)[0] == c.name:
+            table.add_row(f"  {e.parts[0].name}", "", "", "", "", "", _how(e.parts[0]),
+                          end_section=True)
+            continue
+        for i, p in enumerate(e.parts):
+            table.add_row(f"  {p.name}", _g(p.mass), _vec(p.com, size),
+                          _tensor_cell(p.inertia_own, big), _tensor_cell(p.inertia_link, big),
+                          _pct(p.share), _how(p), end_section=i == len(e.parts) - 1)
+    table.add_row("[bold]link total[/bold]", _g(t.mass), _vec(t.com, size),
+                  _tensor_cell(t.inertia, big), _tensor_cell(t.inertia, big),
+                  _pct([1.0, 1.0, 1.0]), "")
+    return table
+
+
+def _how(p: Contribution) -> str:
+    text = p.method
+    if p.density is not None:
+        text += f", {_g(p.density)} kg/m^3"
+    return text + (", cavity" if p.cavity else "")
