@@ -42,7 +42,7 @@ def claims(data: bytes, path: Path) -> bool:
 
 
 def _signature(paths: tuple[Path, ...]) -> tuple:
-    out = []
+    out: list[tuple[str, int | None, int | None]] = []
     for p in paths:
         try:
             st = os.stat(p)

@@ -52,8 +52,12 @@ def _num(text: str | None) -> float | None:
 def _without(document: bytes, links: set[str]) -> bytes:
     """``document`` without the <inertial> elements of ``links``."""
     spans = scan_links(document)
-    cuts = sorted(spans[name].inertial for name in links
-                  if name in spans and spans[name].inertial is not None)
+    cuts: list[tuple[int, int]] = []
+    for name in links:
+        span = spans.get(name)
+        if span is not None and span.inertial is not None:
+            cuts.append(span.inertial)
+    cuts.sort()
     out, pos = [], 0
     for start, end in cuts:
         line = document.rfind(b"\n", 0, start)

@@ -144,7 +144,8 @@ def _local_path(text: str, state: _State) -> str:
     uri = text[scheme.start():]
     package = _PACKAGE_URI.match(uri)
     if package is not None:
-        found = find_package(package.group(1), state.main_dir, dict(state.settings.package_dirs))
+        found = find_package(package.group(1), state.main_dir,
+                             {k: Path(v) for k, v in state.settings.package_dirs})
         if found is None:
             raise UrdfError(f"{uri}: package '{package.group(1)}' not found: pass "
                             f"--package-dir {package.group(1)}=PATH or set ROS_PACKAGE_PATH")
@@ -258,7 +259,7 @@ def _locating(node: Any) -> Iterator[None]:
             if where is None and node.nodeType == node.ELEMENT_NODE:
                 where = _parse_location(node.getAttribute(SOURCE_ATTR))
             if where is not None:
-                exc._urdfinertia_where = where
+                setattr(exc, "_urdfinertia_where", where)  # noqa: B010 - not our class
         raise
 
 
@@ -301,7 +302,7 @@ def _patched(state: _State) -> Iterator[None]:
 
 def expand_xacro(path: str | Path, data: bytes | None = None, *,
                  settings: XacroSettings | None = None,
-                 overrides: Mapping[str | Path, bytes] | None = None) -> Expansion:
+                 overrides: Mapping[Path, bytes] | None = None) -> Expansion:
     """Expand the xacro file at ``path`` (its bytes ``data`` if given) to URDF.
 
     Raises :class:`UrdfError` naming the xacro file and line of any xacro, YAML or XML
@@ -366,7 +367,8 @@ def _located(error: UrdfInertiaError, state: _State, exc: BaseException | None,
 def _strip_and_locate(doc: minidom.Document) -> list[tuple[int, int] | None]:
     """Remove the source tags and whitespace-only text; each element's source in order."""
     out: list[tuple[int, int] | None] = []
-    stack = [doc.documentElement]
+    root = doc.documentElement
+    stack: list[minidom.Element] = [root] if root is not None else []
     while stack:
         node = stack.pop()
         out.append(_parse_location(node.getAttribute(SOURCE_ATTR)))

@@ -205,7 +205,7 @@ def plan_write_back(path: str | Path, exp: Expansion, fixed: bytes,
     for name, old in before.items():
         new = after.get(name)
         changed = _changed(old, new) if new is not None else {}
-        if not changed:
+        if new is None or not changed:
             plan.outcomes.append(LinkOutcome(name, "unchanged", "inertial unchanged"))
             continue
         whole = _whole_element(exp, old, new, uses, plan)
@@ -277,30 +277,32 @@ def _plan_values(prober: _Prober, exp: Expansion, before: dict[str, LinkInertial
     for name, changed in per_slot.items():
         for slot, (old, new) in changed.items():
             position = before[name].slots[slot].position
-            lit = by_position.get(position)
+            source_lit = by_position.get(position) if position is not None else None
             _, where, raw = own[(name, slot)]
-            if lit is None:
+            if source_lit is None or position is None:
                 reason = f"computed by {raw or 'an expression'}" if raw else "computed"
                 notes.setdefault(name, []).append(ValueNote(slot, old, new, where, raw, reason))
-            elif len(exact[lit]) > 1:
-                others = [describe(prober.els, p) for p in sorted(exact[lit]) if p != position]
+            elif len(exact[source_lit]) > 1:
+                others = [describe(prober.els, p) for p in sorted(exact[source_lit])
+                          if p != position]
                 notes.setdefault(name, []).append(ValueNote(
-                    slot, old, new, _lit_where(exp, lit), lit.context,
+                    slot, old, new, _lit_where(exp, source_lit), source_lit.context,
                     "shared: it also sets " + ", ".join(others[:3])))
             else:
-                chosen[lit] = position
+                chosen[source_lit] = position
                 notes.setdefault(name, []).append(ValueNote(
-                    slot, old, new, _lit_where(exp, lit), lit.context))
+                    slot, old, new, _lit_where(exp, source_lit), source_lit.context))
     bad: dict[Literal, str] = {}
     prober.confirm(chosen, bad)
     literal_of = {p: lit for lit, p in chosen.items()}
     for name in per_slot:
         final = []
         for note in notes[name]:
-            lit = literal_of.get(before[name].slots[note.slot].position)
-            if lit is not None and lit in bad:
+            at = before[name].slots[note.slot].position
+            traced = literal_of.get(at) if at is not None else None
+            if traced is not None and traced in bad:
                 note = ValueNote(note.slot, note.current, note.fixed, note.source,
-                                 note.expression, bad[lit])
+                                 note.expression, bad[traced])
             final.append(note)
         blocked = [n for n in final if n.reason]
         if blocked:
@@ -311,7 +313,9 @@ def _plan_values(prober: _Prober, exp: Expansion, before: dict[str, LinkInertial
             continue
         places = []
         for note in final:
-            lit = literal_of[before[name].slots[note.slot].position]
+            at = before[name].slots[note.slot].position
+            assert at is not None  # a note without a reason was traced to a literal here
+            lit = literal_of[at]
             text = yaml_number(note.fixed) if lit.kind == "yaml" else note.fixed
             plan.edits.append((exp.sources[lit.source], lit.start, lit.end, text.encode()))
             places.append(f"{note.slot} at {note.source}")

@@ -86,7 +86,8 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
     if suffix == ".dae" and data is not None:
         unit = _collada_unit(data[:_UNIT_HEAD])
     else:
-        unit = loaded.metadata.get("unit_meter") if hasattr(loaded, "metadata") else None
+        metadata = getattr(loaded, "metadata", None)
+        unit = metadata.get("unit_meter") if metadata is not None else None
     if unit and not np.isclose(unit, 1.0):
         vertices = vertices * unit
     if not np.all(np.isfinite(vertices)):

@@ -138,7 +138,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     diameter = np.zeros(n_loops)
     np.maximum.at(diameter, loop, 2.0 * np.linalg.norm(a - centre[loop], axis=1))
     cos = np.clip(np.abs(np.einsum("ij,ij->i", rim_normal, normal[loop])), 0.0, 1.0)
-    theta = np.bincount(loop, weights=np.arccos(cos) * length, minlength=n_loops)
+    theta: np.ndarray = np.bincount(loop, weights=np.arccos(cos) * length, minlength=n_loops)
     theta = theta / np.maximum(np.bincount(loop, weights=length, minlength=n_loops), 1e-300)
     sagitta = 0.5 * diameter * np.tan(0.5 * np.minimum(theta, 0.5 * np.pi))
     three = np.bincount(loop, minlength=n_loops) == 3
