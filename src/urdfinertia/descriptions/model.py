@@ -118,6 +118,11 @@ class Link:
     visuals: tuple[GeometryRef, ...] = ()
     inertial: Inertial | None = None
     line: int | None = None
+    #: the elements the format itself counts for inertia, when it has such a rule (MJCF:
+    #: geoms whose group is in ``inertiagrouprange``); ``--geometry auto`` then uses them
+    inertia_geometry: tuple[GeometryRef, ...] | None = None
+    #: what the reader wants said about this link (dropped elements, included files)
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -42,7 +42,7 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir:
         role, refs = select_geometry(link, options.geometry)
         if not refs:
             return LinkResult(link.name, "untouched", "none", None, link.inertial,
-                              ("no geometry: inertial left as it was",))
+                              ("no geometry: inertial left as it was", *link.notes))
         parts = []
         for ref in refs:
             parts.extend(geometry_parts(ref, meshes, urdf_dir))
@@ -58,7 +58,7 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir:
         if link_spec is not None:  # the spec, not the URDF, made these parts
             raise exc.with_context(file=link_spec.path, link=link.name) from None
         raise exc.with_context(link=link.name, line=link.line) from None
-    warnings = _warnings(parts, result)
+    warnings = link.notes + _warnings(parts, result)
     return LinkResult(link.name, "recomputed", role, result, link.inertial, warnings)
 
 
