@@ -76,6 +76,10 @@ class GeometryRef:
     #: ``density``/``mass``, SDF ``<density>``): kg/m^3 and kg, None when it says nothing
     density: float | None = None
     mass: float | None = None
+    #: ``density``/``mass`` only weigh the elements against each other: a link mass that
+    #: is kept scales them all (MJCF: MuJoCo ignores geom materials of a body that has an
+    #: ``<inertial>``; their proportions still say where the mass is)
+    relative: bool = False
 
     @property
     def label(self) -> str:

@@ -52,6 +52,8 @@ class Part:
         kg/m^3 or kg when the user knows them; otherwise the link's policy decides.
     cavity : bool
         Removed material: contributes negative mass.
+    relative : bool
+        ``density``/``mass`` are weights: a pinned link mass scales them (see assemble).
     """
 
     name: str
@@ -63,6 +65,7 @@ class Part:
     mass: float | None = None
     cavity: bool = False
     notes: tuple[str, ...] = field(default=())
+    relative: bool = False
 
     @property
     def volume(self) -> float:
@@ -117,7 +120,7 @@ def geometry_parts(ref: GeometryRef, meshes: MeshLibrary, urdf_dir: Path) -> lis
         name = ref.label if len(bodies) == 1 else f"{ref.label} body {i + 1}"
         parts.append(Part(name=name, element=ref.label, unit=unit, pose=pose, method=method,
                           density=ref.density, mass=_share(ref.mass, unit, bodies),
-                          notes=notes))
+                          notes=notes, relative=ref.relative))
     return parts
 
 

@@ -179,22 +179,24 @@ class _Reader:
                     inertia_geometry=tuple(counted), notes=tuple(body.notes))
 
     def _materials(self, body: _Body, refs: list[GeometryRef]) -> list[GeometryRef]:
-        """Stated geom densities that cannot change a kept mass's distribution are dropped.
+        """Geom materials of a body that has an ``<inertial>`` become weights.
 
-        With an explicit ``<inertial>`` MuJoCo ignores geom materials; spreading the kept
-        mass by volume is then what equal densities would give, and the stated values
-        would only clash with the kept mass. Unequal densities or stated masses are kept
-        (they do shape the distribution).
+        MuJoCo ignores geom densities and masses when a body has an explicit inertial;
+        a kept mass is then shared among the geoms in the proportions they state (geoms
+        stating nothing weigh as MuJoCo's default density). Equal densities are dropped
+        instead: spreading the mass by volume is the same thing.
         """
         has_mass = body.inertial is not None and body.inertial.mass > 0
-        if not refs or not has_mass or self.doc.inertia_from_geom == "true":
-            return refs
-        if any(r.mass is not None for r in refs):
+        stated = any(r.density is not None or r.mass is not None for r in refs)
+        if not stated or not has_mass or self.doc.inertia_from_geom == "true":
             return refs
         densities = {r.density if r.density is not None else MUJOCO_DENSITY for r in refs}
-        if len(densities) > 1:
-            return refs
-        return [dataclasses.replace(r, density=None) for r in refs]
+        if len(densities) == 1 and all(r.mass is None for r in refs):
+            return [dataclasses.replace(r, density=None) for r in refs]
+        return [dataclasses.replace(
+            r, relative=True,
+            density=r.density if r.density is not None or r.mass is not None else MUJOCO_DENSITY)
+            for r in refs]
 
     def _joint(self, body: _Body) -> Joint:
         kinds = [k for k in body.joints if k != "fixed"]

@@ -27,10 +27,11 @@ from urdfinertia.errors import MeshError
 from urdfinertia.mesh.limits import BYTES_PER_FACE, DEFAULT_MAX_FACES, max_mesh_bytes
 from urdfinertia.mesh.read.common import Piece, TooManyFaces
 from urdfinertia.mesh.read.dae import read_dae
+from urdfinertia.mesh.read.msh import msh_face_count, read_msh
 from urdfinertia.mesh.read.obj import read_obj
 from urdfinertia.mesh.read.stl import read_stl
 
-SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off")
+SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off", ".msh")
 _CHUNK = 1 << 20
 #: Largest vertex coordinate accepted, m (after unit scaling): fifth powers stay finite.
 MAX_COORDINATE = 1e9
@@ -149,7 +150,9 @@ def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
     except MemoryError:
         raise MeshError(f"cannot read mesh {path}: out of memory (lower --max-faces)"
                         ) from None
-    except Exception:
+    except Exception as exc:
+        if suffix == ".msh":  # trimesh reads no MuJoCo meshes: this reader is the reference
+            raise MeshError(f"cannot read mesh {path}: {exc}") from None
         return None
 
 
@@ -161,9 +164,13 @@ def _read_obj(data: bytes, max_faces: int) -> list[Piece]:
     return read_obj(data)
 
 
+def _read_msh(data: bytes, max_faces: int) -> list[Piece]:
+    return read_msh(data)
+
+
 #: Formats read without trimesh: reader(bytes, max_faces) -> pieces.
 _NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
-    ".stl": _read_stl, ".obj": _read_obj, ".dae": read_dae}
+    ".stl": _read_stl, ".obj": _read_obj, ".dae": read_dae, ".msh": _read_msh}
 
 
 def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
@@ -245,6 +252,8 @@ def declared_faces_in(data: bytes, suffix: str) -> int | None:
     if suffix == ".obj":
         first = 1 if re.match(rb"f[ \t]", data[:4096]) else 0
         return first + data.count(b"\nf ") + data.count(b"\nf\t")
+    if suffix == ".msh":
+        return msh_face_count(data)
     return declared_faces(io.BytesIO(data), suffix, len(data))
 
 
