@@ -82,7 +82,10 @@ def run(args: argparse.Namespace) -> int:
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
     if args.output is None and not args.in_place:
         sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
-    return 0
+    for r in result.failed:  # written, but these links were left as they were: exit 1
+        print(f"urdf-inertia: warning: {result.path}: link '{r.name}': {r.warnings[0]}",
+              file=sys.stderr)
+    return 1 if result.failed else 0
 
 
 __all__ = ["add_arguments", "run", "UrdfInertiaError"]

@@ -50,6 +50,9 @@ class DescriptionFormat:
     patch: Callable[[bytes, NewInertials], bytes]
     #: decides a file whose root element is shared with another format (xacro's <robot>)
     claims: Callable[[bytes, Path], bool] | None = None
+    #: a link that cannot be computed is left as written and reported ("failed"), the
+    #: others are still written (exit 1), instead of failing the whole file
+    isolates_links: bool = False
 
 
 _FORMATS: dict[str, DescriptionFormat] = {}

@@ -101,12 +101,19 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
+    isolate = format_of(robot).isolates_links
     results = []
     for link in robot.links:
         try:
             results.append(compute_link(link, options, meshes, urdf_dir))
         except UrdfInertiaError as exc:
-            raise exc.with_context(file=path, link=link.name) from None
+            if not isolate:
+                raise exc.with_context(file=path, link=link.name) from None
+            exc.with_context(file=path, link=link.name)
+            line = f":{exc.line}" if exc.line is not None else ""
+            results.append(LinkResult(link.name, "failed", "none", None, link.inertial, (
+                f"not computed, left as written ({Path(exc.file or path).name}{line}: "
+                f"{exc.cause})", *link.notes)))
     new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}
     try:
         output = format_of(robot).patch(data, new)

@@ -76,3 +76,36 @@ def test_mujoco_default_mesh_inertia_overcounts_a_concave_mesh(tmp_path):
     ours = fix_file(path, FixOptions(mass="density")).links[0].assembly.total.mass
     legacy = body_inertia(compiled(path), "ring")[0]
     assert legacy > 1.2 * ours
+
+
+def _write_msh(path, vertices, faces):
+    v = np.asarray(vertices, dtype="<f4")
+    f = np.asarray(faces, dtype="<i4")
+    header = np.array([len(v), 0, 0, len(f)], dtype="<i4")
+    path.write_bytes(header.tobytes() + v.tobytes() + f.tobytes())
+
+
+def test_msh_meshes_match_mujoco_exact(tmp_path):
+    """MuJoCo's own binary format, with faces and without (the hull of the vertices)."""
+    folder = tmp_path / "assets"
+    folder.mkdir()
+    box = trimesh.creation.box(extents=[0.2, 0.1, 0.05])
+    box.apply_translation([0.05, 0.0, 0.1])
+    _write_msh(folder / "box.msh", box.vertices, box.faces)
+    rng = np.random.default_rng(7)
+    _write_msh(folder / "cloud.msh", rng.normal(size=(40, 3)) * [0.1, 0.05, 0.02], [])
+    path = tmp_path / "msh.xml"
+    path.write_text('<mujoco><compiler meshdir="assets"/><asset><mesh file="box.msh"/>'
+                    '<mesh file="cloud.msh"/></asset><worldbody>'
+                    '<body name="box"><joint/><geom type="mesh" mesh="box"/></body>'
+                    '<body name="cloud"><joint/><geom type="mesh" mesh="cloud"/></body>'
+                    "</worldbody></mujoco>")
+    result = fix_file(path, FixOptions(mass="density"))
+    model = compiled(path, exact_meshes=True)
+    for r in result.links:
+        mass, com, tensor = body_inertia(model, r.name)
+        total = r.assembly.total
+        np.testing.assert_allclose(total.mass, mass, rtol=RTOL, err_msg=r.name)
+        np.testing.assert_allclose(total.com, com, atol=RTOL * 0.3, err_msg=r.name)
+        np.testing.assert_allclose(total.inertia, tensor, rtol=RTOL,
+                                   atol=RTOL * float(np.abs(tensor).max()), err_msg=r.name)

@@ -213,3 +213,25 @@ def test_geom_problems_drop_the_geom_with_a_note(tmp_path):
     assert link.status == "recomputed"
     assert any("bad.xml:3 dropped" in w and "size" in w for w in link.warnings)
     assert len(link.assembly.parts) == 1
+
+
+def test_geom_materials_weigh_a_kept_mass(tmp_path):
+    """A body with an <inertial> keeps its mass; its geoms' unequal densities and masses
+    still say where it is: MuJoCo's geom-derived body, scaled to the kept mass."""
+    body = """<body name="b"><joint/>{inertial}
+      <geom type="box" size="0.1 0.1 0.1" density="7800"/>
+      <geom type="sphere" size="0.1" pos="0.5 0 0" density="200"/>
+      <geom type="capsule" size="0.02 0.1" pos="0 0.3 0" mass="0.7"/>
+      <geom type="sphere" size="0.05" pos="0 0 -0.3"/></body>"""
+    with_inertial = tmp_path / "kept.xml"
+    with_inertial.write_text("<mujoco><worldbody>" + body.format(
+        inertial='<inertial pos="0 0 0" mass="5" diaginertia="1 1 1"/>')
+        + "</worldbody></mujoco>")
+    from_geoms = tmp_path / "geoms.xml"
+    from_geoms.write_text("<mujoco><worldbody>" + body.format(inertial="")
+                          + "</worldbody></mujoco>")
+    total = fix_file(with_inertial, FixOptions()).links[0].assembly.total
+    mass, com, tensor = body_inertia(compiled(from_geoms), "b")
+    assert total.mass == pytest.approx(5.0, rel=1e-12)
+    np.testing.assert_allclose(total.com, com, atol=1e-12)
+    np.testing.assert_allclose(total.inertia, tensor * 5.0 / mass, rtol=1e-9)

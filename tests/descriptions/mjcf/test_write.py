@@ -132,3 +132,23 @@ def test_lenient_reading_keeps_non_finite_inertials_for_check(tmp_path):
     strict, _ = read_description(path)
     assert strict.link("b").inertial is None
     assert any("cannot be used" in n for n in strict.link("b").notes)
+
+
+def test_a_body_that_cannot_be_computed_is_left_as_written(tmp_path, capsys):
+    from urdfinertia.cli import main
+
+    path = tmp_path / "partial.xml"
+    path.write_text('<mujoco><asset><mesh name="gone" file="gone.stl"/></asset><worldbody>'
+                    '<body name="ok"><joint/><geom type="box" size=".1 .1 .1"/></body>'
+                    '<body name="bad"><joint/><geom type="mesh" mesh="gone"/>'
+                    '<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/></body>'
+                    "</worldbody></mujoco>")
+    result = fix_file(path, FixOptions())
+    status = {r.name: r.status for r in result.links}
+    assert status == {"ok": "recomputed", "bad": "failed"}
+    assert "gone.stl" in result.failed[0].warnings[0]
+    assert b'<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>' in result.output
+    out = tmp_path / "out.xml"
+    assert main(["fix", str(path), "-o", str(out), "-q"]) == 1
+    assert "link 'bad'" in capsys.readouterr().err
+    assert out.read_bytes() == result.output

@@ -23,6 +23,9 @@ from urdfinertia.descriptions.xml import parse_document
 from urdfinertia.errors import UrdfError
 
 ROOTS = ("mujoco",)
+#: Roots of included files: MuJoCo takes only the root's children, whatever its name, and
+#: older models name it ``mujocoinclude``.
+INCLUDE_ROOTS = ("mujoco", "mujocoinclude")
 #: Included files read for one model at most, and how deep includes may nest.
 MAX_INCLUDES = 256
 MAX_INCLUDE_DEPTH = 16
@@ -122,7 +125,7 @@ class MjcfDocument:
         if not path.is_file():
             raise UrdfError(f"included file not found: {name} (looked at {path})",
                             file=src.path, line=el.sourceline)
-        inc = Source(path, parse_document(read_bytes(path), path, ROOTS), False)
+        inc = Source(path, parse_document(read_bytes(path), path, INCLUDE_ROOTS), False)
         self.sources.append(inc)
         self._includes[el] = inc
         return inc
