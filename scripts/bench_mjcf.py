@@ -45,12 +45,12 @@ def _mujoco():
 def derived(path: Path, exact: bool):
     """MuJoCo's body masses and inertias from the geoms, or the compile error."""
     mj = _mujoco()
-    spec = mj.MjSpec.from_file(str(path))
-    spec.compiler.inertiafromgeom = mj.mjtInertiaFromGeom.mjINERTIAFROMGEOM_TRUE
-    if exact:
-        for mesh in spec.meshes:
-            mesh.inertia = mj.mjtMeshInertia.mjMESH_INERTIA_EXACT
     try:
+        spec = mj.MjSpec.from_file(str(path))
+        spec.compiler.inertiafromgeom = mj.mjtInertiaFromGeom.mjINERTIAFROMGEOM_TRUE
+        if exact:
+            for mesh in spec.meshes:
+                mesh.inertia = mj.mjtMeshInertia.mjMESH_INERTIA_EXACT
         model = spec.compile()
     except Exception as exc:  # noqa: BLE001 - MuJoCo's compile errors are the result
         return str(exc).splitlines()[0][:80]
@@ -71,10 +71,10 @@ def stable(model) -> bool:
 
 def load(path: Path, explicit_only: bool = False):
     mj = _mujoco()
-    spec = mj.MjSpec.from_file(str(path))
-    if explicit_only:
-        spec.compiler.inertiafromgeom = mj.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
     try:
+        spec = mj.MjSpec.from_file(str(path))
+        if explicit_only:
+            spec.compiler.inertiafromgeom = mj.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
         return spec.compile()
     except Exception as exc:  # noqa: BLE001
         return str(exc).splitlines()[0][:80]

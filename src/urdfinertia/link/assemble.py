@@ -45,6 +45,9 @@ def _scaled_to(parts: Sequence[Part], mass: float) -> list[Part]:
     """
     import dataclasses
 
+    if all(p.mass is None for p in parts) and len({p.density for p in parts}) == 1:
+        # equal densities: the mass spread by volume, on the exact uniform path
+        return [dataclasses.replace(p, density=None, relative=False) for p in parts]
     weight = sum(_signed(p, p.mass if p.mass is not None else (p.density or 0.0) * p.volume)
                  for p in parts)
     if not weight > 0:

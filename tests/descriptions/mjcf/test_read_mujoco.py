@@ -235,3 +235,15 @@ def test_geom_materials_weigh_a_kept_mass(tmp_path):
     assert total.mass == pytest.approx(5.0, rel=1e-12)
     np.testing.assert_allclose(total.com, com, atol=1e-12)
     np.testing.assert_allclose(total.inertia, tensor * 5.0 / mass, rtol=1e-9)
+
+
+def test_mass_density_uses_stated_densities_of_bodies_with_inertials(tmp_path):
+    """--mass density ignores the kept mass, not the geoms' stated densities."""
+    path = tmp_path / "dens.xml"
+    path.write_text('<mujoco><default><geom density="1"/></default><worldbody>'
+                    '<body name="b"><joint/><inertial pos="0 0 0" mass="9" diaginertia="1 1 1"/>'
+                    '<geom type="box" size=".1 .2 .3"/></body></worldbody></mujoco>')
+    total = fix_file(path, FixOptions(mass="density")).links[0].assembly.total
+    assert total.mass == pytest.approx(0.2 * 0.4 * 0.6, rel=1e-12)
+    kept = fix_file(path, FixOptions()).links[0].assembly.total
+    assert kept.mass == 9.0

@@ -183,16 +183,13 @@ class _Reader:
 
         MuJoCo ignores geom densities and masses when a body has an explicit inertial;
         a kept mass is then shared among the geoms in the proportions they state (geoms
-        stating nothing weigh as MuJoCo's default density). Equal densities are dropped
-        instead: spreading the mass by volume is the same thing.
+        stating nothing weigh as MuJoCo's default density). ``--mass density`` uses the
+        stated values as they are.
         """
         has_mass = body.inertial is not None and body.inertial.mass > 0
         stated = any(r.density is not None or r.mass is not None for r in refs)
         if not stated or not has_mass or self.doc.inertia_from_geom == "true":
             return refs
-        densities = {r.density if r.density is not None else MUJOCO_DENSITY for r in refs}
-        if len(densities) == 1 and all(r.mass is None for r in refs):
-            return [dataclasses.replace(r, density=None) for r in refs]
         return [dataclasses.replace(
             r, relative=True,
             density=r.density if r.density is not None or r.mass is not None else MUJOCO_DENSITY)
