@@ -103,7 +103,10 @@ def run(args: argparse.Namespace) -> int:
             writeback.print_summary(plan, console)
     if args.output is None and not args.in_place and plan is None:
         sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
-    return engine_regressions(args, result, options)
+    for r in result.failed:  # written, but these links were left as they were: exit 1
+        print(f"urdf-inertia: warning: {result.path}: link '{r.name}': {r.warnings[0]}",
+              file=sys.stderr)
+    return max(engine_regressions(args, result, options), 1 if result.failed else 0)
 
 
 def engine_regressions(args: argparse.Namespace, result, options) -> int:

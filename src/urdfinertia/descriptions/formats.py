@@ -53,11 +53,15 @@ class DescriptionFormat:
     #: (bytes, path) -> bytes: for a file that generates another format's document (xacro
     #: -> URDF), the document that ``read`` reads and ``patch`` edits
     expand: Callable[[bytes, Path], bytes] | None = None
+    #: a link that cannot be computed is left as written and reported ("failed"), the
+    #: others are still written (exit 1), instead of failing the whole file
+    isolates_links: bool = False
 
 
 _FORMATS: dict[str, DescriptionFormat] = {}
 #: Modules that register the built-in formats when first imported.
-_BUILTIN = ("urdfinertia.descriptions.urdf", "urdfinertia.descriptions.xacro")
+_BUILTIN = ("urdfinertia.descriptions.urdf", "urdfinertia.descriptions.xacro",
+            "urdfinertia.descriptions.mjcf")
 #: Bytes searched for the root element (comments and a DOCTYPE may come first).
 _SNIFF_BYTES = 1 << 16
 _PROLOG = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s+|<\?.*?\?>|<!--.*?-->|<![^>]*>)*", re.S)

@@ -76,6 +76,10 @@ class GeometryRef:
     #: ``density``/``mass``, SDF ``<density>``): kg/m^3 and kg, None when it says nothing
     density: float | None = None
     mass: float | None = None
+    #: ``density``/``mass`` only weigh the elements against each other: a link mass that
+    #: is kept scales them all (MJCF: MuJoCo ignores geom materials of a body that has an
+    #: ``<inertial>``; their proportions still say where the mass is)
+    relative: bool = False
 
     @property
     def label(self) -> str:
@@ -118,6 +122,11 @@ class Link:
     visuals: tuple[GeometryRef, ...] = ()
     inertial: Inertial | None = None
     line: int | None = None
+    #: the elements the format itself counts for inertia, when it has such a rule (MJCF:
+    #: geoms whose group is in ``inertiagrouprange``); ``--geometry auto`` then uses them
+    inertia_geometry: tuple[GeometryRef, ...] | None = None
+    #: what the reader wants said about this link (dropped elements, included files)
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -51,7 +51,13 @@ class FixOptions:
 
 
 def select_geometry(link: Link, mode: str) -> tuple[str, tuple[GeometryRef, ...]]:
-    """Which geometry elements make the link's parts (see :class:`FixOptions`)."""
+    """Which geometry elements make the link's parts (see :class:`FixOptions`).
+
+    ``auto`` on a link whose format says which elements count for inertia (MJCF) takes
+    those ("geom").
+    """
+    if mode == "auto" and link.inertia_geometry is not None:
+        return ("geom", link.inertia_geometry) if link.inertia_geometry else ("none", ())
     if mode == "collision" or (mode == "auto" and link.collisions):
         return "collision", link.collisions
     if mode == "visual" or (mode == "auto" and link.visuals):

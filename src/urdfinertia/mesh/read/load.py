@@ -29,10 +29,11 @@ from urdfinertia.hostile import hostile_xml_stream_cause
 from urdfinertia.mesh.limits import BYTES_PER_FACE, DEFAULT_MAX_FACES, max_mesh_bytes
 from urdfinertia.mesh.read.common import NeedsTrimesh, Piece, TooManyFaces
 from urdfinertia.mesh.read.dae import read_dae
+from urdfinertia.mesh.read.msh import msh_face_count, read_msh
 from urdfinertia.mesh.read.obj import read_obj
 from urdfinertia.mesh.read.stl import read_stl
 
-SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off")
+SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off", ".msh")
 _CHUNK = 1 << 20
 #: Largest vertex coordinate accepted, m (after unit scaling): fifth powers stay finite.
 MAX_COORDINATE = 1e9
@@ -158,6 +159,8 @@ def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
     except Exception as exc:  # trimesh and pycollada raise many types for corrupt bytes
         if suffix == ".stl":
             return None
+        # OBJ and COLLADA: trimesh's own loaders; .msh: trimesh reads no MuJoCo meshes, this
+        # reader is the reference
         raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
 
 
@@ -165,9 +168,13 @@ def _read_stl(data: bytes, max_faces: int) -> list[Piece]:
     return read_stl(data)
 
 
-#: Formats read without trimesh: reader(bytes, max_faces) -> pieces.
+def _read_msh(data: bytes, max_faces: int) -> list[Piece]:
+    return read_msh(data)
+
+
+#: The reader registry by suffix: reader(bytes, max_faces) -> pieces.
 _NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
-    ".stl": _read_stl, ".obj": read_obj, ".dae": read_dae}
+    ".stl": _read_stl, ".obj": read_obj, ".dae": read_dae, ".msh": _read_msh}
 
 
 def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
@@ -249,6 +256,8 @@ def declared_faces_in(data: bytes, suffix: str) -> int | None:
     if suffix == ".obj":
         first = 1 if re.match(rb"f[ \t]", data[:4096]) else 0
         return first + data.count(b"\nf ") + data.count(b"\nf\t")
+    if suffix == ".msh":
+        return msh_face_count(data)
     return declared_faces(io.BytesIO(data), suffix, len(data))
 
 

@@ -1,0 +1,34 @@
+"""MJCF (MuJoCo): reading bodies, geoms and inertials into the robot model; byte-splicing of
+``<inertial>`` elements back into the document.
+
+Registers the ``mjcf`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` (root
+element ``<mujoco>``) when imported (the registry imports it on first use).
+"""
+
+from __future__ import annotations
+
+from urdfinertia.descriptions.formats import DescriptionFormat, register_format
+
+
+def _read(data, path):  # noqa: ANN001, ANN202 - the format's signature
+    from urdfinertia.descriptions.mjcf.read import robot_from_bytes
+
+    return robot_from_bytes(data, path)
+
+
+def _read_lenient(data, path):  # noqa: ANN001, ANN202
+    from urdfinertia.descriptions.mjcf.read import robot_from_bytes
+
+    return robot_from_bytes(data, path, lenient=True)
+
+
+def _patch(data, new):  # noqa: ANN001, ANN202
+    from urdfinertia.descriptions.mjcf.write import patch_inertials
+
+    return patch_inertials(data, new)
+
+
+register_format(DescriptionFormat(
+    name="mjcf", roots=("mujoco",), suffixes=(".xml", ".mjcf"),
+    read=_read, read_lenient=_read_lenient, patch=_patch, isolates_links=True,
+))

@@ -1,0 +1,242 @@
+"""Read an MJCF model into the robot model: one link per ``<body>``, in MuJoCo's conventions.
+
+* Bodies become links, named by their ``name`` or, unnamed, ``body#K`` (the K-th
+  ``<body>`` of the file in document order; ``FILE:body#K`` in an included file), which
+  the writer finds again the same way. The world body is not a link.
+* Joints come from nesting: a body with no joint element is welded to its parent (type
+  "fixed"), ``<freejoint>`` is "floating", hinge "revolute", slide "prismatic".
+* Geoms in MuJoCo's half sizes become the model's full-size shapes
+  (:mod:`~urdfinertia.descriptions.mjcf.geoms`). Colliding geoms (``contype`` or
+  ``conaffinity`` non-zero) are the link's collisions, the others its visuals, and the
+  geoms MuJoCo itself counts for inertia (``group`` within ``inertiagrouprange``, not
+  stated massless) are :attr:`Link.inertia_geometry`: what ``--geometry auto`` uses.
+* ``<inertial>`` becomes the model's inertial: ``pos`` and orientation as the origin,
+  ``diaginertia`` or ``fullinertia`` (whose off-diagonals are the tensor's own entries,
+  as URDF's) along it.
+
+A problem that belongs to one geom drops that geom with a note on its link; one that
+belongs to a body's existing inertial drops the inertial (strict reading) with a note.
+Only what makes the document as a whole unreadable raises.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from lxml import etree
+
+from urdfinertia.descriptions.mjcf.document import MjcfDocument, Source
+from urdfinertia.descriptions.mjcf.geoms import geom_ref, pose_attrs
+from urdfinertia.descriptions.mjcf.numbers import GeomError, numbers
+from urdfinertia.descriptions.mjcf.orientation import matrix_rpy
+from urdfinertia.descriptions.model import GeometryRef, Inertial, Joint, Link, Origin, Robot
+from urdfinertia.errors import UrdfError
+
+_JOINT_TYPES = {"hinge": "revolute", "slide": "prismatic", "ball": "ball", "free": "floating"}
+#: MuJoCo's geom density when none is stated, kg/m^3.
+MUJOCO_DENSITY = 1000.0
+
+
+def body_name(el: etree._Element, src: Source) -> str:
+    """A body's link name: its own, or ``body#K`` by document order (see module doc)."""
+    name = el.get("name")
+    if name:
+        return name
+    tag = f"body#{src.body_ordinal[el]}"
+    return tag if src.main else f"{src.path.name}:{tag}"
+
+
+@dataclass
+class _Body:
+    name: str
+    el: etree._Element
+    src: Source
+    parent: str
+    pose: np.ndarray  # in the parent body's frame
+    childclass: str
+    geoms: list[GeometryRef] = field(default_factory=list)
+    counted: list[GeometryRef] = field(default_factory=list)
+    joints: list[str] = field(default_factory=list)
+    joint_names: list[str] = field(default_factory=list)
+    inertial: Inertial | None = None
+    notes: list[str] = field(default_factory=list)
+
+
+class _Reader:
+    def __init__(self, doc: MjcfDocument, lenient: bool) -> None:
+        self.doc = doc
+        self.lenient = lenient
+        self.bodies: list[_Body] = []
+        self.group_range = doc.inertia_group_range()
+
+    def read(self) -> Robot:
+        for el, src in self.doc.children(self.doc.main.root, self.doc.main):
+            if el.tag == "worldbody":
+                self._walk(el, src, None, np.eye(4), "main")
+        seen: set[str] = set()
+        for body in self.bodies:
+            if body.name in seen:
+                raise UrdfError(f"duplicate body name '{body.name}'", file=body.src.path,
+                                line=body.el.sourceline)
+            seen.add(body.name)
+        links = tuple(self._link(b) for b in self.bodies)
+        joints = tuple(self._joint(b) for b in self.bodies)
+        return Robot(name=self.doc.model_name, links=links, joints=joints,
+                     path=self.doc.path, format="mjcf")
+
+    # -- the body tree -------------------------------------------------------------------
+
+    def _walk(self, el: etree._Element, src: Source, body: _Body | None, frame: np.ndarray,
+              childclass: str) -> None:
+        """Children of a body (or the world, ``body`` None) or of a frame inside one."""
+        for child, csrc in self.doc.children(el, src):
+            tag = child.tag
+            if tag == "body":
+                self._body(child, csrc, body, frame, childclass)
+            elif tag == "frame":
+                pose = self._pose(child, csrc, child.attrib, body)
+                self._walk(child, csrc, body, frame @ pose, child.get("childclass", childclass))
+            elif body is None:
+                continue  # world geoms, sites, lights: no inertia to fix
+            elif tag == "geom":
+                self._geom(child, csrc, body, frame, childclass)
+            elif tag in ("joint", "freejoint"):
+                attrs = self.doc.class_attrs("joint", child.get("class", childclass), child,
+                                             csrc)
+                kind = "free" if tag == "freejoint" else attrs.get("type", "hinge")
+                body.joints.append(_JOINT_TYPES.get(kind, kind))
+                if child.get("name"):
+                    body.joint_names.append(child.get("name"))
+            elif tag == "inertial":
+                body.inertial = self._inertial(child, csrc, body)
+            elif tag in ("replicate", "attach", "composite", "flexcomp"):
+                body.notes.append(f"<{tag}> at {csrc.path.name}:{child.sourceline} is not "
+                                  "expanded: its bodies and geoms are not seen")
+
+    def _body(self, el: etree._Element, src: Source, parent: _Body | None, frame: np.ndarray,
+              childclass: str) -> None:
+        name = body_name(el, src)
+        pose = self._pose(el, src, el.attrib, None, link=name)
+        body = _Body(name, el, src, parent.name if parent else "world", frame @ pose,
+                     el.get("childclass", childclass))
+        if not src.main:
+            body.notes.append(f"defined in included file {src.path.name}: computed, not "
+                              "written (its <inertial> lives in that file)")
+        self.bodies.append(body)
+        self._walk(el, src, body, np.eye(4), body.childclass)
+
+    def _pose(self, el: etree._Element, src: Source, attrs: dict[str, str],
+              body: _Body | None, link: str | None = None) -> np.ndarray:
+        try:
+            return pose_attrs(attrs, el.attrib, self.doc)
+        except GeomError as exc:
+            if body is not None:
+                body.notes.append(f"<{el.tag}> at line {el.sourceline}: {exc}; taken as "
+                                  "identity")
+                return np.eye(4)
+            raise UrdfError(str(exc), file=src.path, line=el.sourceline, link=link) from None
+
+    def _geom(self, el: etree._Element, src: Source, body: _Body, frame: np.ndarray,
+              childclass: str) -> None:
+        attrs = self.doc.class_attrs("geom", el.get("class", childclass), el, src)
+        where = f"geom at {src.path.name}:{el.sourceline}"
+        try:
+            found = geom_ref(el, attrs, self.doc, frame)
+        except GeomError as exc:
+            body.notes.append(f"{where} dropped: {exc}")
+            return
+        if found is None:
+            return  # a plane or height field: no volume, no inertia in MuJoCo either
+        ref, group, note = found
+        ref = dataclasses.replace(ref, index=sum(r.role == ref.role for r in body.geoms))
+        if note:
+            body.notes.append(f"{where}: {note}")
+        body.geoms.append(ref)
+        stated_zero = ref.mass == 0.0 or (ref.mass is None and ref.density == 0.0)
+        if self.group_range[0] <= group <= self.group_range[1] and not stated_zero:
+            body.counted.append(ref)
+
+    def _inertial(self, el: etree._Element, src: Source, body: _Body) -> Inertial | None:
+        try:
+            return _read_inertial(el, self.doc, self.lenient)
+        except GeomError as exc:
+            body.notes.append(f"<inertial> at {src.path.name}:{el.sourceline} cannot be "
+                              f"used: {exc}")
+            return None
+
+    # -- model objects -------------------------------------------------------------------
+
+    def _link(self, body: _Body) -> Link:
+        collisions = self._materials(body, [r for r in body.geoms if r.role == "collision"])
+        visuals = self._materials(body, [r for r in body.geoms if r.role == "visual"])
+        counted = self._materials(body, body.counted)
+        return Link(name=body.name, collisions=tuple(collisions), visuals=tuple(visuals),
+                    inertial=body.inertial, line=body.el.sourceline,
+                    inertia_geometry=tuple(counted), notes=tuple(body.notes))
+
+    def _materials(self, body: _Body, refs: list[GeometryRef]) -> list[GeometryRef]:
+        """Geom materials of a body that has an ``<inertial>`` become weights.
+
+        MuJoCo ignores geom densities and masses when a body has an explicit inertial;
+        a kept mass is then shared among the geoms in the proportions they state (geoms
+        stating nothing weigh as MuJoCo's default density). ``--mass density`` uses the
+        stated values as they are.
+        """
+        has_mass = body.inertial is not None and body.inertial.mass > 0
+        stated = any(r.density is not None or r.mass is not None for r in refs)
+        if not stated or not has_mass or self.doc.inertia_from_geom == "true":
+            return refs
+        return [dataclasses.replace(
+            r, relative=True,
+            density=r.density if r.density is not None or r.mass is not None else MUJOCO_DENSITY)
+            for r in refs]
+
+    def _joint(self, body: _Body) -> Joint:
+        kinds = [k for k in body.joints if k != "fixed"]
+        kind = kinds[0] if kinds else "fixed"
+        name = body.joint_names[0] if body.joint_names else f"{body.name}_joint"
+        return Joint(name=name, type=kind, parent=body.parent, child=body.name,
+                     origin=_origin(body.pose), line=body.el.sourceline)
+
+
+def _origin(pose: np.ndarray) -> Origin:
+    xyz = tuple(float(v) for v in pose[:3, 3])
+    return Origin(xyz, matrix_rpy(pose[:3, :3]))  # type: ignore[arg-type]
+
+
+def _read_inertial(el: etree._Element, doc: MjcfDocument, lenient: bool) -> Inertial:
+    attrs = dict(el.attrib)
+    if "pos" not in attrs:
+        raise GeomError("missing attribute 'pos'")
+    if "mass" not in attrs:
+        raise GeomError("missing attribute 'mass'")
+    pose = pose_attrs(attrs, attrs, doc, finite=not lenient)
+    mass = numbers(attrs["mass"], 1, "mass", finite=not lenient)[0]
+    if "fullinertia" in attrs:
+        f = numbers(attrs["fullinertia"], 6, "fullinertia", finite=not lenient)
+        values = (f[0], f[3], f[4], f[1], f[5], f[2])  # ixx ixy ixz iyy iyz izz
+    elif "diaginertia" in attrs:
+        d = numbers(attrs["diaginertia"], 3, "diaginertia", finite=not lenient)
+        values = (d[0], 0.0, 0.0, d[1], 0.0, d[2])
+    else:
+        raise GeomError("needs diaginertia or fullinertia")
+    if not lenient:
+        if mass < 0:
+            raise GeomError(f"mass {mass:g} is negative")
+        if min(values[0], values[3], values[5]) < 0:
+            raise GeomError("a diagonal moment is negative")
+    if all(math.isfinite(v) for v in pose.flat):
+        origin = _origin(pose)
+    else:  # lenient reading of a NaN pose: keep it visible to the linter
+        origin = Origin(tuple(float(v) for v in pose[:3, 3]), (0.0, 0.0, 0.0))  # type: ignore[arg-type]
+    return Inertial(origin, mass, *values, line=el.sourceline)
+
+
+def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) -> Robot:
+    """The robot model of an MJCF document (``lenient``: keep non-finite inertial values)."""
+    doc = MjcfDocument(data, Path(path))
+    return _Reader(doc, lenient).read()
