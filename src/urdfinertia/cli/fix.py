@@ -1,4 +1,8 @@
-"""``urdf-inertia fix``: arguments and output of the main job."""
+"""``urdf-inertia fix``: arguments and output of the main job.
+
+Exit codes (:mod:`urdfinertia.cli.outcome`): 0 every link computed, 1 written but some
+links left as they were (each listed on stderr), 2 nothing written.
+"""
 
 from __future__ import annotations
 
@@ -16,6 +20,7 @@ from urdfinertia.cli.batch import (
     single_file_library,
 )
 from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args
+from urdfinertia.cli.outcome import fix_exit_code, left_lines, problem_lines
 from urdfinertia.errors import OutputError, UrdfInertiaError
 from urdfinertia.link.fix import fix_file
 
@@ -40,6 +45,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="keep every mass and CoM; only lift the principal moments of invalid "
                         "tensors (not positive definite, A + B < C) just enough; geometry "
                         "options are ignored")
+    p.add_argument("--strict", action="store_true",
+                   help="all or nothing: any element dropped, value ignored or link left "
+                        "as it was is an error (exit 2, nothing written)")
+    p.add_argument("--keep-mesh-paths", action="store_true",
+                   help="keep relative mesh references as written even when the output "
+                        "lands in another folder (default: rewrite them to resolve from "
+                        "the output's folder)")
     add_batch_arguments(p)
 
 
@@ -59,30 +71,51 @@ def run(args: argparse.Namespace) -> int:
         finish_single(args, meshes)
     if args.output is not None and args.output.resolve() == args.urdf.resolve():
         raise OutputError("output is the input file: use --in-place", file=args.output)
+    if args.strict:
+        refusal = result.strict_refusal()
+        if refusal is not None:
+            raise refusal
+    document, rewritten = result.output, 0
+    if args.output is not None and not args.keep_mesh_paths:
+        from urdfinertia.descriptions.formats import relocate_references
+
+        document, rewritten = relocate_references(document, result.path, args.output)
     # everything is computed before the first write; the URDF (the file that matters)
     # is written first, so a failure leaves at most the JSON missing
     text = None
     if args.json is not None:
         from urdfinertia.render.results_json import fix_result_dict
 
-        text = json.dumps(fix_result_dict(result), indent=2)
+        doc = fix_result_dict(result)
+        doc["mesh_references_rewritten"] = rewritten
+        doc["exit_code"] = fix_exit_code(len(result.left))
+        text = json.dumps(doc, indent=2)
     if args.in_place:
         if result.changed:
-            write_in_place(args.urdf, result.output)
+            write_in_place(args.urdf, document)
     elif args.output is not None:
-        atomic_write_bytes(args.output, result.output)
+        atomic_write_bytes(args.output, document)
     if text is not None:
         atomic_write_bytes(args.json, text.encode())
     if not args.quiet:
-        from rich.console import Console
+        from urdfinertia.render.table import fix_console, print_fix_table
 
-        from urdfinertia.render.table import print_fix_table
-
-        console = Console(stderr=args.output is None and not args.in_place, width=160)
+        console = fix_console(stderr=args.output is None and not args.in_place)
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
     if args.output is None and not args.in_place:
-        sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
-    return 0
+        sys.stdout.buffer.write(document)  # a filter: -q only silences the table
+    for line in problem_lines(result):
+        print(f"urdf-inertia: warning: {line}", file=sys.stderr)
+    if rewritten:
+        print(f"urdf-inertia: {rewritten} relative mesh reference(s) rewritten to resolve "
+              f"from {args.output.parent} (--keep-mesh-paths keeps them)", file=sys.stderr)
+    left = left_lines(result)
+    for line in left:
+        print(f"urdf-inertia: left as it was: {line}", file=sys.stderr)
+    if left:
+        print(f"urdf-inertia: {len(left)} of {len(result.links)} links left as they were "
+              "(exit 1)", file=sys.stderr)
+    return fix_exit_code(len(left))
 
 
 __all__ = ["add_arguments", "run", "UrdfInertiaError"]
