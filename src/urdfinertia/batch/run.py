@@ -74,6 +74,8 @@ class BatchSettings:
     dask: str | None = None
     in_place: bool = False
     details: bool = False
+    #: keep relative mesh references as written when the output is in another folder
+    keep_mesh_paths: bool = False
 
     def __post_init__(self) -> None:
         if self.jobs < 1:
@@ -104,9 +106,15 @@ class FileOutcome:
     #: bytes the result was computed from: what a whole-file cache entry depends on.
     trace: tuple[tuple[str, str, str], ...] = ()
     source_digest: str = ""
-    #: The error depends on the source bytes and the traced meshes alone (its XML, a URI
-    #: that does not resolve, a mesh rejected for its bytes): it may be cached.
+    #: The error, or the links left as they were, depend on the source bytes and the
+    #: traced meshes alone (its XML, a URI that does not resolve, a mesh rejected for its
+    #: bytes, not a permission): the outcome may be cached.
     reusable_error: bool = False
+    #: one line per link left as it was, and per problem read past
+    left: tuple[str, ...] = ()
+    problems: tuple[str, ...] = ()
+    #: relative mesh references rewritten for the output's folder
+    rewritten: int = 0
 
 
 @dataclass(frozen=True, eq=False)
@@ -201,11 +209,17 @@ def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
 
             info = fix_result_dict(result)
         warnings = tuple(f"{r.name}: {w}" for r in result.links for w in r.warnings)
+        done = {"dropped": "element dropped", "ignored": "value ignored",
+                "lenient": "read leniently"}
         outcome = FileOutcome(
             source, robot=robot.name, links=len(result.links),
             recomputed=sum(r.status == "recomputed" for r in result.links),
             changed=result.changed, warnings=warnings, document=result.output,
-            details=info, times=times, trace=tuple(meshes.trace), source_digest=digest)
+            details=info, times=times, trace=tuple(meshes.trace), source_digest=digest,
+            left=tuple(str(result.left_error(r)) for r in result.left),
+            problems=tuple(f"{p.describe(result.path)} ({done[p.kind]})"
+                           for p in result.problems),
+            reusable_error=meshes.failed_for_bytes_only(meshes.trace))
     except UrdfInertiaError as exc:
         # reading can fail for the environment (permissions); parsing and fixing for the
         # inputs, unless a mesh failed for more than its bytes (a read error, say)
@@ -404,7 +418,7 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
         nonlocal done
         if outcome.error is None and outcome.document is not None:
             with times.stage("write"):
-                outcome = _write(jobs[i], outcome, settings.in_place)
+                outcome = _write(jobs[i], outcome, settings)
         outcomes[i] = outcome
         done += 1
         hook("files", done, total)
@@ -429,8 +443,8 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
             finish(i, outcome)
 
         def finish_fresh(i: int, outcome: FileOutcome) -> None:
-            reusable = (outcome.document is not None if outcome.error is None
-                        else outcome.reusable_error)
+            reusable = outcome.reusable_error and (outcome.document is not None
+                                                   or outcome.error is not None)
             if results is not None and reusable and outcome.source_digest:
                 known = results.keys.get(jobs[i].source)
                 if known and hashlib.blake2b(known[1], digest_size=20).hexdigest() == \
@@ -438,7 +452,8 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
                     with times.stage("cache"):
                         results.store(jobs[i].source, outcome.trace, CachedResult(
                             outcome.robot, outcome.links, outcome.recomputed,
-                            outcome.warnings, outcome.document or b"", outcome.error))
+                            outcome.warnings, outcome.document or b"", outcome.error,
+                            outcome.left, outcome.problems))
             finish(i, outcome)
 
         meshes = _fix_all(jobs, todo, options, settings, cache, progress, times,
@@ -449,8 +464,7 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
         # could disturb)
         with times.stage("write"), cf.ThreadPoolExecutor(
                 WRITER_THREADS, thread_name_prefix="urdfinertia-write") as writer:
-            written = writer.map(lambda hit: _write(jobs[hit[0]], hit[1], settings.in_place),
-                                 hits)
+            written = writer.map(lambda hit: _write(jobs[hit[0]], hit[1], settings), hits)
             for (i, _), outcome in zip(hits, written, strict=True):
                 outcomes[i] = outcome
                 done += 1
@@ -519,13 +533,20 @@ def _from_cache(source: Path, result: CachedResult, original: bytes) -> FileOutc
         return FileOutcome(source, error=result.error)
     return FileOutcome(source, robot=result.robot, links=result.links,
                        recomputed=result.recomputed, changed=result.document != original,
-                       warnings=result.warnings, document=result.document)
+                       warnings=result.warnings, document=result.document,
+                       left=result.left, problems=result.problems)
 
 
-def _write(job: FileJob, outcome: FileOutcome, in_place: bool) -> FileOutcome:
+def _write(job: FileJob, outcome: FileOutcome, settings: BatchSettings) -> FileOutcome:
     """Write ``outcome``'s document where ``job`` says; drop it from memory once written."""
     if outcome.error is not None or outcome.document is None:
         return outcome
+    in_place = settings.in_place
+    if not in_place and job.output is not None and not settings.keep_mesh_paths:
+        from urdfinertia.descriptions.formats import relocate_references
+
+        document, rewritten = relocate_references(outcome.document, job.source, job.output)
+        outcome = dataclasses.replace(outcome, document=document, rewritten=rewritten)
     try:
         if in_place:
             if outcome.changed:

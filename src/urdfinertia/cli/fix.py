@@ -71,10 +71,6 @@ def run(args: argparse.Namespace) -> int:
         finish_single(args, meshes)
     if args.output is not None and args.output.resolve() == args.urdf.resolve():
         raise OutputError("output is the input file: use --in-place", file=args.output)
-    if args.strict:
-        refusal = result.strict_refusal()
-        if refusal is not None:
-            raise refusal
     document, rewritten = result.output, 0
     if args.output is not None and not args.keep_mesh_paths:
         from urdfinertia.descriptions.formats import relocate_references

@@ -188,6 +188,10 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
                                         by_link.get(link.name, ())))
         except UrdfInertiaError as exc:
             raise exc.with_context(file=path, link=link.name) from None
+    if options.strict:
+        refusal = FixResult(path, robot, tuple(results), data, data).strict_refusal()
+        if refusal is not None:
+            raise refusal
     new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}
     try:
         output = format_of(robot).patch(data, new)
