@@ -3,7 +3,8 @@
 Each case mutates a small valid URDF (byte flips, truncation, deleted attributes, swapped
 tags, huge or tiny numbers, duplicated elements) and runs the CLI in-process. Allowed
 outcomes with ``--strict``: exit 0 with an output that reads back as a URDF, or exit 2 with
-one line on stderr; without it, also exit 1 (written, some links left as they were). Never an internal error (exit 3), a traceback, a changed input or a stray file.
+one line on stderr; without it, also exit 1 (written, some links left as they were).
+Never an internal error (exit 3), a traceback, a changed input or a stray file.
 The cases come from a fixed seed, so a failure names a reproducible case id.
 """
 
