@@ -11,7 +11,6 @@ import json
 from collections import Counter
 from pathlib import Path
 
-from rich.console import Console
 from rich.table import Table
 
 from urdfinertia.analysis.check import SEVERITIES, Finding, check_robot
@@ -44,7 +43,9 @@ def run(args: argparse.Namespace) -> int:
     options = FixOptions(geometry=args.geometry, package_dirs=dict(args.package_dir),
                          max_faces=args.max_faces)
     meshes = None if args.no_geometry else MeshLibrary(options.package_dirs, options.max_faces)
-    console = Console(width=170)
+    from urdfinertia.render.console import output_console
+
+    console = output_console()
     report = []
     code = 0
     for path in args.urdf:
