@@ -88,11 +88,14 @@ def run(argv: list[str], capsys) -> tuple[int, str, str]:
 
 def expect_refusal(folder: Path, urdf: Path, capsys, *needles: str, code: int = 2,
                    extra: tuple[str, ...] = ()) -> str:
-    """Run ``fix URDF -o out.urdf``; assert a one-line refusal and an untouched folder."""
+    """Run ``fix URDF -o out.urdf --strict``; assert a one-line refusal and an untouched
+    folder. ``--strict`` is all-or-nothing: without it, a problem of one element or link
+    drops that element or leaves that link (tests/test_partly_broken.py); document-level
+    and security refusals are the same either way (:func:`test_refused_without_strict`)."""
     before = snapshot(folder)
     out = folder / "out.urdf"
-    rc, stdout, err = run(["fix", str(urdf), "-o", str(out), "-q", "--no-cache", *extra],
-                          capsys)
+    rc, stdout, err = run(["fix", str(urdf), "-o", str(out), "-q", "--no-cache", "--strict",
+                           *extra], capsys)
     assert rc == code, err
     lines = err.splitlines()
     assert len(lines) == 1, err
@@ -525,7 +528,8 @@ def test_failed_run_keeps_existing_output(workdir, capsys):
 def test_failed_in_place_leaves_input_and_no_backup(workdir, capsys):
     urdf = with_mesh(workdir, "gone.stl")
     before = snapshot(workdir)
-    rc, _, err = run(["fix", str(urdf), "--in-place", "-q", "--no-cache"], capsys)
+    rc, _, err = run(["fix", str(urdf), "--in-place", "-q", "--no-cache", "--strict"],
+                     capsys)
     assert rc == 2 and len(err.splitlines()) == 1
     assert snapshot(workdir) == before
 
@@ -589,7 +593,7 @@ def test_internal_error_is_one_line_exit_3(workdir, capsys, monkeypatch):
 
 def test_debug_shows_traceback(workdir, capsys):
     urdf = with_mesh(workdir, "gone.stl")
-    rc, _, err = run(["fix", str(urdf), "-q", "--no-cache", "--debug"], capsys)
+    rc, _, err = run(["fix", str(urdf), "-q", "--no-cache", "--debug", "--strict"], capsys)
     assert rc == 2
     assert "Traceback" in err
     assert err.splitlines()[-1].startswith("urdf-inertia: error: ")

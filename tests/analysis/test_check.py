@@ -222,7 +222,9 @@ def test_missing_mesh_is_a_warning_not_a_crash(tmp_path):
     path = write(tmp_path, text)
     assert ("arm", "geometry-unreadable") in codes(findings(path), "warning")
     assert exit_code(path) == 0
-    assert exit_code(path, "--no-geometry", "--strict") == 0
+    # a reference that does not resolve is a warning even when no mesh is read (issue 13)
+    assert exit_code(path, "--no-geometry") == 0
+    assert exit_code(path, "--no-geometry", "--strict") == 1
 
 
 # --- lumping ------------------------------------------------------------------------------
@@ -302,3 +304,39 @@ def test_corpus_value_checks_agree_with_an_independent_reader(erd_dir):
         seen_placeholder += len(placeholder)
     # The oracle must have had something to agree on, or the test proves nothing.
     assert seen_triangle > 0 and seen_placeholder > 0
+
+
+# --- issue 13: check lints what it can read, it does not refuse ---------------------------
+
+LINT_URDF = """<?xml version="1.0"?>
+<robot name="r">
+  <link name="a">
+    <inertial><mass value="MASS"/>
+      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.25"/></inertial>
+    <collision><origin xyz="0 0 0" rpy="0, 0 0"/><geometry><box size="0.1 0.2 0.3"/>
+    </geometry></collision>
+    <collision><geometry><sphere radius="0"/></geometry></collision>
+    <visual><geometry><mesh filename="meshes/gone.stl"/></geometry></visual>
+  </link>
+</robot>
+"""
+
+
+@pytest.mark.parametrize(("mass", "code"), [("6e9", "mass-absurd"),
+                                            ("-2", "mass-not-positive"),
+                                            ("nan", "mass-not-finite")])
+def test_check_judges_any_readable_value(mass, code, tmp_path, capsys):
+    from urdfinertia.cli import main
+
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(LINT_URDF.replace("MASS", mass))
+    report = tmp_path / "r.json"
+    assert main(["check", str(urdf), "--no-geometry", "--json", str(report)]) == 1
+    capsys.readouterr()
+    findings = json.loads(report.read_text())["files"][0]["findings"]
+    by_code = {f["code"]: f for f in findings}
+    assert by_code[code]["severity"] == "error"
+    # what other loaders fail on, each with its line
+    assert by_code["vector-unparseable"]["line"] == 6
+    assert by_code["zero-size-primitive"]["line"] == 8
+    assert by_code["mesh-unresolved"]["line"] == 9

@@ -53,7 +53,7 @@ def outputs(folder: Path) -> dict[str, bytes]:
 
 
 def test_dask_run_equals_local_run(cluster, tree, tmp_path):
-    options = FixOptions()
+    options = FixOptions(strict=True)  # bad.urdf (missing mesh) fails
     local = run_batch(collect_jobs([tree], tmp_path / "local"), options,
                       BatchSettings(use_cache=False))
     remote = run_batch(collect_jobs([tree], tmp_path / "dask"), options,

@@ -117,10 +117,11 @@ def test_results_are_identical_for_any_jobs_and_cache(tree, tmp_path):
 
 def test_batch_output_equals_the_single_file_command(tree, tmp_path):
     source = tree / "pkg_a" / "robot_a.urdf"
+    # the outputs land in different folders: mesh references kept, so the bytes compare
     assert main(["fix", str(source), "-o", str(tmp_path / "single.urdf"), "-q",
-                 "--cache-dir", str(tmp_path / "c")]) == 0
+                 "--cache-dir", str(tmp_path / "c"), "--keep-mesh-paths"]) == 0
     assert main(["fix", str(tree), "-o", str(tmp_path / "many"), "-q", "--jobs", "2",
-                 "--cache-dir", str(tmp_path / "c")]) == 0
+                 "--cache-dir", str(tmp_path / "c"), "--keep-mesh-paths"]) == 0
     single = (tmp_path / "single.urdf").read_bytes()
     assert (tmp_path / "many" / "pkg_a" / "robot_a.urdf").read_bytes() == single
 
@@ -162,7 +163,7 @@ def broken(tree) -> Path:
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_failures_are_reported_per_file_and_the_rest_is_written(broken, tmp_path, jobs):
     out = tmp_path / "out"
-    report = run_batch(collect_jobs([broken], out), FixOptions(),
+    report = run_batch(collect_jobs([broken], out), FixOptions(strict=True),
                        BatchSettings(jobs=jobs, use_cache=False))
     failed = {o.source.name: o.error for o in report.failed}
     assert set(failed) == {"bad_xml.urdf", "no_mesh.urdf"}
@@ -174,11 +175,21 @@ def test_failures_are_reported_per_file_and_the_rest_is_written(broken, tmp_path
 
 def test_cli_exit_code_names_each_failed_file(broken, tmp_path, capsys):
     code = main(["fix", str(broken), "-o", str(tmp_path / "out"), "--jobs", "2", "-q",
-                 "--no-cache"])
+                 "--no-cache", "--strict"])
     err = capsys.readouterr().err
     assert code == 2
     assert "bad_xml.urdf" in err and "no_mesh.urdf" in err
-    assert "2 of 5 files failed" in err
+    assert "5 files: 3 written" in err and "2 failed" in err
+
+
+def test_cli_batch_exit_1_lists_the_links_left(broken, tmp_path, capsys):
+    (broken / "pkg_b" / "bad_xml.urdf").unlink()
+    code = main(["fix", str(broken), "-o", str(tmp_path / "out"), "-q", "--no-cache"])
+    err = capsys.readouterr().err
+    assert code == 1, err
+    assert "left as it was" in err and "no_mesh.urdf" in err and "link 'l'" in err
+    assert "4 files: 4 written (1 with links left as they were: 1 links), 0 failed" in err
+    assert (tmp_path / "out" / "pkg_b" / "no_mesh.urdf").is_file()
 
 
 def test_cli_several_inputs_need_an_output_folder(tree, capsys):
@@ -279,7 +290,7 @@ def test_errors_fixed_by_the_inputs_are_cached_until_the_inputs_change(broken, t
     cache = tmp_path / "c"
 
     def run(name):
-        report = run_batch(collect_jobs([broken], tmp_path / name), FixOptions(),
+        report = run_batch(collect_jobs([broken], tmp_path / name), FixOptions(strict=True),
                            BatchSettings(cache_dir=cache))
         return report, {o.source.name: o.error for o in report.failed}
 
@@ -299,9 +310,9 @@ def test_errors_fixed_by_the_inputs_are_cached_until_the_inputs_change(broken, t
 def test_a_cached_error_names_the_source_as_spelled(broken, tmp_path, monkeypatch):
     cache = tmp_path / "c"
     monkeypatch.chdir(broken)
-    first = run_batch(collect_jobs([Path("pkg_b")], tmp_path / "one"), FixOptions(),
+    first = run_batch(collect_jobs([Path("pkg_b")], tmp_path / "one"), FixOptions(strict=True),
                       BatchSettings(cache_dir=cache))
-    second = run_batch(collect_jobs([broken / "pkg_b"], tmp_path / "two"), FixOptions(),
+    second = run_batch(collect_jobs([broken / "pkg_b"], tmp_path / "two"), FixOptions(strict=True),
                        BatchSettings(cache_dir=cache))
     errors = [sorted(o.error for o in r.failed) for r in (first, second)]
     assert all(e.startswith("pkg_b") for e in errors[0])
@@ -319,7 +330,7 @@ def test_errors_that_may_depend_on_the_environment_are_not_cached(tree, tmp_path
     monkeypatch.setattr(meshlib, "load_mesh", unreadable)
     cache = tmp_path / "c"
     for name in ("one", "two"):
-        report = run_batch(collect_jobs([tree], tmp_path / name), FixOptions(),
+        report = run_batch(collect_jobs([tree], tmp_path / name), FixOptions(strict=True),
                            BatchSettings(cache_dir=cache))
         assert {o.source.name for o in report.failed} == {"robot_a.urdf", "robot_b.urdf"}
         assert report.file_hits == (0 if name == "one" else 1)  # robot_c only
@@ -327,9 +338,9 @@ def test_errors_that_may_depend_on_the_environment_are_not_cached(tree, tmp_path
 
 def test_a_warm_run_writes_every_output_and_keeps_the_order(tree, tmp_path):
     settings = BatchSettings(cache_dir=tmp_path / "c")
-    run_batch(collect_jobs([tree], tmp_path / "cold"), FixOptions(), settings)
+    run_batch(collect_jobs([tree], tmp_path / "cold"), FixOptions(strict=True), settings)
     jobs = collect_jobs([tree], tmp_path / "warm")
-    report = run_batch(jobs, FixOptions(), settings)  # every file from the cache
+    report = run_batch(jobs, FixOptions(strict=True), settings)  # every file from the cache
     assert report.file_hits == 3
     assert [o.source for o in report.outcomes] == [j.source for j in jobs]
     assert all(o.output == j.output and o.document is None
@@ -358,11 +369,32 @@ def test_urdf_files_finds_what_rglob_finds(tmp_path):
 def test_an_altered_error_entry_is_recomputed(broken, tmp_path):
     cache = tmp_path / "c"
     source = broken / "pkg_b" / "no_mesh.urdf"
-    run_batch([FileJob(source)], FixOptions(), BatchSettings(cache_dir=cache))
+    run_batch([FileJob(source)], FixOptions(strict=True), BatchSettings(cache_dir=cache))
     (entry,) = (cache / "files-v1").glob("??/*.entry")
     data = entry.read_bytes()
     at = data.rindex(b"missing.stl")  # in the message (the body), not in the header
     entry.write_bytes(data[:at] + b"ELSEWHERE!!" + data[at + 11:])  # same length
-    report = run_batch([FileJob(source)], FixOptions(), BatchSettings(cache_dir=cache))
+    report = run_batch([FileJob(source)], FixOptions(strict=True), BatchSettings(cache_dir=cache))
     assert report.file_hits == 0
     assert "missing.stl" in report.outcomes[0].error
+
+
+def test_links_left_for_the_environment_are_not_cached(tree, tmp_path, monkeypatch):
+    """Without --strict an unreadable mesh leaves its link: that outcome is not cached
+    either, so the next run reads the mesh again."""
+    from urdfinertia.errors import MeshError
+
+    real = meshlib.load_mesh
+
+    def unreadable(path, max_faces):
+        raise MeshError(f"cannot read {path}: permission denied")
+
+    monkeypatch.setattr(meshlib, "load_mesh", unreadable)
+    cache = tmp_path / "c"
+    report = run_batch(collect_jobs([tree], tmp_path / "one"), FixOptions(),
+                       BatchSettings(cache_dir=cache))
+    assert not report.failed and sum(bool(o.left) for o in report.outcomes) == 2
+    monkeypatch.setattr(meshlib, "load_mesh", real)
+    report = run_batch(collect_jobs([tree], tmp_path / "two"), FixOptions(),
+                       BatchSettings(cache_dir=cache))
+    assert report.file_hits == 1 and not any(o.left for o in report.outcomes)

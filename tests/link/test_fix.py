@@ -178,11 +178,21 @@ def test_cli_in_place_keeps_backup(tmp_path):
     assert src.read_bytes() != before
 
 
-def test_cli_missing_mesh_is_one_line_error(tmp_path, capsys):
+def test_cli_missing_mesh_leaves_the_link(tmp_path, capsys):
     path = write_urdf(tmp_path, link("hand", collision('<mesh filename="nope.stl"/>')))
     before = path.read_bytes()
     out = tmp_path / "out.urdf"
-    assert main(["fix", str(path), "-o", str(out)]) == 2
+    assert main(["fix", str(path), "-o", str(out), "-q"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert "left as it was" in err and "hand" in err and "nope.stl" in err
+    assert path.read_bytes() == before and out.read_bytes() == before
+
+
+def test_cli_missing_mesh_strict_is_one_line_error(tmp_path, capsys):
+    path = write_urdf(tmp_path, link("hand", collision('<mesh filename="nope.stl"/>')))
+    before = path.read_bytes()
+    out = tmp_path / "out.urdf"
+    assert main(["fix", str(path), "-o", str(out), "--strict"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1
     assert str(path) in err and "hand" in err and "nope.stl" in err

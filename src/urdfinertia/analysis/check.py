@@ -115,6 +115,8 @@ class Finding:
     severity: str  # "error" | "warning" | "info"
     code: str
     message: str
+    #: line in the description where known (additive: most value checks are per link)
+    line: int | None = None
 
     def __post_init__(self) -> None:
         if self.severity not in SEVERITIES:
@@ -133,13 +135,62 @@ def check_robot(robot: Robot, *, meshes: MeshLibrary | None = None,
     urdf_dir = robot.path.parent if robot.path is not None else Path(".")
     cache = BoundsCache(meshes) if meshes is not None else None
     findings: list[Finding] = []
+    findings.extend(problem_findings(robot))
     for link in robot.links:
         findings.extend(value_findings(link, kin, robot))
+        findings.extend(reference_findings(link, options, urdf_dir))
         if meshes is not None and cache is not None and link.inertial is not None:
             findings.extend(geometry_findings(link, meshes, cache, options, urdf_dir))
     for group in kin.groups.values():
         findings.extend(lumped_findings(group, robot))
     return findings
+
+
+#: Severity and finding code of each problem the reader read past (what other loaders do
+#: with it: urdfdom refuses a vector it cannot parse; MuJoCo refuses a zero-size geom).
+_PROBLEM_FINDINGS = {
+    "bad-number": ("error", "vector-unparseable"),
+    "comma-vector": ("error", "vector-unparseable"),
+    "unexpanded-substitution": ("error", "unexpanded-substitution"),
+    "zero-size": ("warning", "zero-size-primitive"),
+    "unsupported-shape": ("warning", "unsupported-geometry"),
+    "missing-attribute": ("error", "missing-attribute"),
+    "xml-declaration": ("warning", "xml-read-leniently"),
+    "undeclared-prefix": ("warning", "xml-read-leniently"),
+    "trailing-content": ("warning", "xml-read-leniently"),
+}
+#: A link heavier than this (kg) is a unit slip (mm^3 taken as m^3 gives 1e9 times).
+ABSURD_MASS = 1e6
+#: Inertia components beyond this (kg m^2) describe no robot link.
+ABSURD_MOMENT = 1e6
+
+
+def problem_findings(robot: Robot) -> list[Finding]:
+    """What the reader read past (elements dropped, values read leniently), with lines."""
+    out = []
+    for p in robot.problems:
+        severity, code = _PROBLEM_FINDINGS.get(p.code, ("warning", p.code))
+        where = f"line {p.line}: " if p.line is not None else ""
+        element = f"{p.element}: " if p.element else ""
+        out.append(Finding(p.link, severity, code, f"{where}{element}{p.cause}", p.line))
+    return out
+
+
+def reference_findings(link: Link, options: FixOptions, urdf_dir: Path) -> list[Finding]:
+    """Mesh references that do not resolve to a file (loaders fail on them)."""
+    from urdfinertia.descriptions.model import Mesh
+    from urdfinertia.descriptions.paths import resolve_mesh_path
+
+    out = []
+    for ref in (*link.collisions, *link.visuals):
+        if not isinstance(ref.shape, Mesh):
+            continue
+        try:
+            resolve_mesh_path(ref.shape.filename, urdf_dir, options.package_dirs)
+        except UrdfInertiaError as exc:
+            out.append(Finding(link.name, "warning", "mesh-unresolved",
+                               f"line {ref.line}: {ref.label}: {exc.cause}", ref.line))
+    return out
 
 
 def _lumped_mass(group: FixedGroup, robot: Robot, exclude: str) -> float:
@@ -181,6 +232,16 @@ def value_findings(link: Link, kin: Kinematics, robot: Robot) -> list[Finding]:
         else:
             out.append(Finding(name, "info", "massless-frame",
                                "zero mass on a link that does not move: a frame, not a body"))
+    line = link.inertial.line
+    if np.isfinite(raw.mass) and raw.mass > ABSURD_MASS:
+        out.append(Finding(name, "error", "mass-absurd",
+                           f"mass {raw.mass:.4g} kg is beyond any robot link (above "
+                           f"{ABSURD_MASS:g} kg): a unit slip, e.g. mm^3 taken as m^3?", line))
+    finite = raw.inertia[np.isfinite(raw.inertia)]
+    if finite.size and float(np.abs(finite).max()) > ABSURD_MOMENT:
+        out.append(Finding(name, "error", "inertia-absurd",
+                           f"inertia component {float(np.abs(finite).max()):.4g} kg m^2 is "
+                           f"above {ABSURD_MOMENT:g}: a unit slip?", line))
     if not raw.com_ok:
         out.append(Finding(name, "error", "com-not-finite",
                            f"CoM is {raw.com.tolist()} (origin xyz/rpy not finite)"))

@@ -34,7 +34,7 @@ from urdfinertia.errors import MeshError
 from urdfinertia.link.options import FixOptions
 from urdfinertia.mesh.limits import max_mesh_bytes
 
-FILES_FORMAT = "urdfinertia-file-result/2"
+FILES_FORMAT = "urdfinertia-file-result/3"
 MAGIC = b"URDFINERTIA-FILE\n"
 _ENV = ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH")
 
@@ -73,6 +73,8 @@ class CachedResult:
     warnings: tuple[str, ...]
     document: bytes
     error: str | None = None
+    left: tuple[str, ...] = ()
+    problems: tuple[str, ...] = ()
 
 
 def encode(key: str, deps: list[list[str]], result: CachedResult, source: str = "") -> bytes:
@@ -84,6 +86,7 @@ def encode(key: str, deps: list[list[str]], result: CachedResult, source: str = 
     header = {"format": FILES_FORMAT, "key": key, "deps": deps, "robot": result.robot,
               "links": result.links, "recomputed": result.recomputed,
               "warnings": list(result.warnings), "error": result.error is not None,
+              "left": list(result.left), "problems": list(result.problems),
               "source": source,
               "document_digest": hashlib.blake2b(body, digest_size=20).hexdigest()}
     head = json.dumps(header).encode()
@@ -118,13 +121,18 @@ def decode(data: bytes, key: str, source: str = "",
     failed = header.get("error")
     if not isinstance(failed, bool):
         return None
+    left, problems = header.get("left"), header.get("problems")
+    if not (isinstance(left, list) and all(isinstance(x, str) for x in left)
+            and isinstance(problems, list) and all(isinstance(x, str) for x in problems)):
+        return None
     if failed and header.get("source") != source:
         return None  # an error quoting the source as spelled otherwise
     body = data[pos + 4 + size:]
     if header.get("document_digest") != hashlib.blake2b(body, digest_size=20).hexdigest():
         return None  # truncated or altered
     if not failed:
-        return deps, CachedResult(robot, links, recomputed, tuple(warnings), body)
+        return deps, CachedResult(robot, links, recomputed, tuple(warnings), body, None,
+                                  tuple(left), tuple(problems))
     try:
         error = body.decode("utf-8")
     except UnicodeDecodeError:

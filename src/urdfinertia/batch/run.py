@@ -71,6 +71,8 @@ class BatchSettings:
     dask: str | None = None
     in_place: bool = False
     details: bool = False
+    #: keep relative mesh references as written when the output is in another folder
+    keep_mesh_paths: bool = False
 
     def __post_init__(self) -> None:
         if self.jobs < 1:
@@ -248,7 +250,7 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
         nonlocal done
         if outcome.error is None and outcome.document is not None:
             with times.stage("write"):
-                outcome = _write(jobs[i], outcome, settings.in_place)
+                outcome = _write(jobs[i], outcome, settings)
         outcomes[i] = outcome
         done += 1
         hook("files", done, total)
@@ -273,8 +275,8 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
             finish(i, outcome)
 
         def finish_fresh(i: int, outcome: FileOutcome) -> None:
-            reusable = (outcome.document is not None if outcome.error is None
-                        else outcome.reusable_error)
+            reusable = outcome.reusable_error and (outcome.document is not None
+                                                   or outcome.error is not None)
             if results is not None and reusable and outcome.source_digest:
                 known = results.keys.get(jobs[i].source)
                 if known and hashlib.blake2b(known[1], digest_size=20).hexdigest() == \
@@ -282,7 +284,8 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
                     with times.stage("cache"):
                         results.store(jobs[i].source, outcome.trace, CachedResult(
                             outcome.robot, outcome.links, outcome.recomputed,
-                            outcome.warnings, outcome.document or b"", outcome.error))
+                            outcome.warnings, outcome.document or b"", outcome.error,
+                            outcome.left, outcome.problems))
             finish(i, outcome)
 
         meshes = _fix_all(jobs, todo, options, settings, cache, progress, times,
@@ -293,8 +296,7 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
         # could disturb)
         with times.stage("write"), cf.ThreadPoolExecutor(
                 WRITER_THREADS, thread_name_prefix="urdfinertia-write") as writer:
-            written = writer.map(lambda hit: _write(jobs[hit[0]], hit[1], settings.in_place),
-                                 hits)
+            written = writer.map(lambda hit: _write(jobs[hit[0]], hit[1], settings), hits)
             for (i, _), outcome in zip(hits, written, strict=True):
                 outcomes[i] = outcome
                 done += 1
@@ -363,13 +365,20 @@ def _from_cache(source: Path, result: CachedResult, original: bytes) -> FileOutc
         return FileOutcome(source, error=result.error)
     return FileOutcome(source, robot=result.robot, links=result.links,
                        recomputed=result.recomputed, changed=result.document != original,
-                       warnings=result.warnings, document=result.document)
+                       warnings=result.warnings, document=result.document,
+                       left=result.left, problems=result.problems)
 
 
-def _write(job: FileJob, outcome: FileOutcome, in_place: bool) -> FileOutcome:
+def _write(job: FileJob, outcome: FileOutcome, settings: BatchSettings) -> FileOutcome:
     """Write ``outcome``'s document where ``job`` says; drop it from memory once written."""
     if outcome.error is not None or outcome.document is None:
         return outcome
+    in_place = settings.in_place
+    if not in_place and job.output is not None and not settings.keep_mesh_paths:
+        from urdfinertia.descriptions.formats import relocate_references
+
+        document, rewritten = relocate_references(outcome.document, job.source, job.output)
+        outcome = dataclasses.replace(outcome, document=document, rewritten=rewritten)
     try:
         if in_place:
             if outcome.changed:

@@ -55,9 +55,15 @@ class FileOutcome:
     #: bytes the result was computed from: what a whole-file cache entry depends on.
     trace: tuple[tuple[str, str, str], ...] = ()
     source_digest: str = ""
-    #: The error depends on the source bytes and the traced meshes alone (its XML, a URI
-    #: that does not resolve, a mesh rejected for its bytes): it may be cached.
+    #: The error, or the links left as they were, depend on the source bytes and the
+    #: traced meshes alone (its XML, a URI that does not resolve, a mesh rejected for its
+    #: bytes, not a permission): the outcome may be cached.
     reusable_error: bool = False
+    #: one line per link left as it was, and per problem read past
+    left: tuple[str, ...] = ()
+    problems: tuple[str, ...] = ()
+    #: relative mesh references rewritten for the output's folder
+    rewritten: int = 0
 
 
 
@@ -139,11 +145,17 @@ def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
 
             info = fix_result_dict(result)
         warnings = tuple(f"{r.name}: {w}" for r in result.links for w in r.warnings)
+        done = {"dropped": "element dropped", "ignored": "value ignored",
+                "lenient": "read leniently"}
         outcome = FileOutcome(
             source, robot=robot.name, links=len(result.links),
             recomputed=sum(r.status == "recomputed" for r in result.links),
             changed=result.changed, warnings=warnings, document=result.output,
-            details=info, times=times, trace=tuple(meshes.trace), source_digest=digest)
+            details=info, times=times, trace=tuple(meshes.trace), source_digest=digest,
+            left=tuple(str(result.left_error(r)) for r in result.left),
+            problems=tuple(f"{p.describe(result.path)} ({done[p.kind]})"
+                           for p in result.problems),
+            reusable_error=meshes.failed_for_bytes_only(meshes.trace))
     except UrdfInertiaError as exc:
         # reading can fail for the environment (permissions); parsing and fixing for the
         # inputs, unless a mesh failed for more than its bytes (a read error, say)

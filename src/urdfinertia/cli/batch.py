@@ -59,6 +59,7 @@ def settings_from_args(args: argparse.Namespace) -> BatchSettings:
         dask=getattr(args, "dask", None),
         in_place=bool(getattr(args, "in_place", False)),
         details=getattr(args, "json", None) is not None,
+        keep_mesh_paths=bool(getattr(args, "keep_mesh_paths", False)),
     )
 
 
@@ -123,9 +124,9 @@ class ProgressBar:
 
 
 def stderr_console() -> Console:
-    from rich.console import Console
+    from urdfinertia.render.console import output_console
 
-    return Console(stderr=True, width=160)
+    return output_console(stderr=True)
 
 
 def single_file_library(args: argparse.Namespace, options: FixOptions) -> MeshLibrary:
@@ -168,19 +169,51 @@ def run_many(args: argparse.Namespace, options: FixOptions) -> int:
         stderr_console().print(summary_table(report))
     if args.timings:
         print_timings(report.times, stderr_console())
+    code = batch_exit_code(report)
     if args.json is not None:
-        doc = {"files": [o.details if o.details is not None else
-                         {"file": str(o.source), "error": o.error} for o in report.outcomes]}
+        doc = {"exit_code": code, "files": [_file_json(o) for o in report.outcomes]}
         atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
     for w in report.warnings:
         print(f"urdf-inertia: warning: {w}", file=sys.stderr)
+    for o in report.outcomes:
+        if o.error is None:
+            for line in o.problems:
+                print(f"urdf-inertia: warning: {line}", file=sys.stderr)
+            for line in o.left:
+                print(f"urdf-inertia: left as it was: {line}", file=sys.stderr)
     for o in report.failed:
         print(f"urdf-inertia: error: {o.error}", file=sys.stderr)
+    partial = [o for o in report.outcomes if o.error is None and o.left]
+    rewritten = sum(o.rewritten for o in report.outcomes)
+    if rewritten:
+        print(f"urdf-inertia: {rewritten} relative mesh reference(s) rewritten to resolve "
+              "from the output folder (--keep-mesh-paths keeps them)", file=sys.stderr)
+    written = sum(o.error is None for o in report.outcomes)
+    print(f"urdf-inertia: {len(report.outcomes)} files: {written} written "
+          f"({len(partial)} with links left as they were: "
+          f"{sum(len(o.left) for o in partial)} links), {len(report.failed)} failed",
+          file=sys.stderr)
+    return code
+
+
+def batch_exit_code(report: BatchReport) -> int:
+    """2 when a file failed (nothing written for it), else 1 when a written file has links
+    left as they were, else 0 (:mod:`urdfinertia.cli.outcome`)."""
+    from urdfinertia.cli.outcome import EXIT_NOTHING_WRITTEN, fix_exit_code
+
     if report.failed:
-        print(f"urdf-inertia: {len(report.failed)} of {len(report.outcomes)} files failed",
-              file=sys.stderr)
-        return 2
-    return 0
+        return EXIT_NOTHING_WRITTEN
+    return fix_exit_code(sum(len(o.left) for o in report.outcomes))
+
+
+def _file_json(o) -> dict:  # noqa: ANN001 - a FileOutcome
+    doc = dict(o.details) if o.details is not None else {"file": str(o.source)}
+    if o.error is not None:
+        doc["error"] = o.error
+    doc["left_as_they_were"] = list(o.left)
+    doc["problems"] = list(o.problems)
+    doc["mesh_references_rewritten"] = o.rewritten
+    return doc
 
 
 def summary_table(report: BatchReport) -> Table:
@@ -189,16 +222,18 @@ def summary_table(report: BatchReport) -> Table:
     table = Table(title=f"{len(report.outcomes)} files ({report.file_hits} unchanged since a "
                         f"cached run), {report.meshes} distinct meshes computed or read from "
                         f"the cache ({report.cache_hits} hits, {report.cache_misses} misses)")
-    for col in ("file", "robot", "links recomputed", "warnings", "result"):
+    for col in ("file", "robot", "links recomputed", "left", "warnings", "result"):
         table.add_column(col, overflow="fold")
     cwd = Path.cwd()
     for o in report.outcomes:
         name = os.path.relpath(o.source, cwd) if o.source.is_absolute() else str(o.source)
         if o.error is not None:
-            table.add_row(name, o.robot, "-", "-", "[red]failed[/red]")
+            table.add_row(name, o.robot, "-", "-", "-", "[red]failed[/red]")
             continue
         result = str(o.output) if o.output is not None else "-"
-        table.add_row(name, o.robot, f"{o.recomputed}/{o.links}", str(len(o.warnings)),
+        table.add_row(name, o.robot, f"{o.recomputed}/{o.links}",
+                      f"[yellow]{len(o.left)}[/yellow]" if o.left else "0",
+                      str(len(o.warnings) + len(o.problems)),
                       result if o.changed or o.output is not None else "unchanged")
     return table
 

@@ -13,7 +13,6 @@ import sys
 from collections import Counter
 from pathlib import Path
 
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
@@ -109,8 +108,10 @@ def print_report(args: argparse.Namespace, checked: list[CheckedFile], doc: dict
     elif args.format == "github":
         for line in annotation_lines(checked, include_info=args.show_info):
             print(line)
-    # the summary goes to stderr when stdout carries a document
-    console = Console(width=170, stderr=args.format in ("json", "sarif"))
+    from urdfinertia.render.console import output_console
+
+    # the summary goes to stderr when stdout carries a document; plain text when piped
+    console = output_console(stderr=args.format in ("json", "sarif"))
     for cf in checked:
         if args.format == "text" and not args.quiet:
             shown = [(f, k) for f, k in zip(cf.findings, cf.known, strict=True)

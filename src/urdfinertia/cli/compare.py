@@ -9,7 +9,6 @@ import json
 import math
 from pathlib import Path
 
-from rich.console import Console
 from rich.table import Table
 
 from urdfinertia.analysis.compare import (
@@ -87,7 +86,9 @@ def run(args: argparse.Namespace) -> int:
                         tol_inertia=args.tol_inertia, title=str(args.urdf.name))
         except OSError as exc:
             raise OutputError(f"cannot write: {exc.strerror or exc}", file=args.plot) from None
-    console = Console(width=170)
+    from urdfinertia.render.console import output_console
+
+    console = output_console()
     if not args.quiet:
         shown = worst_first(comparisons, args.tol_com, args.tol_inertia)
         if not args.all:

@@ -7,8 +7,6 @@ import json
 import sys
 from pathlib import Path
 
-from rich.console import Console
-
 from urdfinertia.analysis.explain import breakdown_dict, explain_link
 from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args
 from urdfinertia.descriptions.formats import read_description
@@ -37,7 +35,9 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         sys.stdout.write(json.dumps(breakdown_dict(breakdown), indent=2) + "\n")
         return 0
-    console = Console(width=160)
+    from urdfinertia.render.console import output_console
+
+    console = output_console()
     console.print(breakdown_table(breakdown))
     for warning in breakdown.warnings:
         console.print(f"warning: {warning}")

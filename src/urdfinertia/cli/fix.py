@@ -1,4 +1,8 @@
-"""``urdf-inertia fix``: arguments and output of the main job."""
+"""``urdf-inertia fix``: arguments and output of the main job.
+
+Exit codes (:mod:`urdfinertia.cli.outcome`): 0 every link computed, 1 written but some
+links left as they were (each listed on stderr), 2 nothing written.
+"""
 
 from __future__ import annotations
 
@@ -21,6 +25,7 @@ from urdfinertia.cli.options import (
     engine_request,
     options_from_args,
 )
+from urdfinertia.cli.outcome import fix_exit_code, left_lines, problem_lines
 from urdfinertia.errors import OutputError, UrdfInertiaError
 from urdfinertia.link.fix import fix_file
 
@@ -45,6 +50,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="keep every mass and CoM; only lift the principal moments of invalid "
                         "tensors (not positive definite, A + B < C) just enough; geometry "
                         "options are ignored")
+    p.add_argument("--strict", action="store_true",
+                   help="all or nothing: any element dropped, value ignored or link left "
+                        "as it was is an error (exit 2, nothing written)")
+    p.add_argument("--keep-mesh-paths", action="store_true",
+                   help="keep relative mesh references as written even when the output "
+                        "lands in another folder (default: rewrite them to resolve from "
+                        "the output's folder)")
     add_batch_arguments(p)
     from urdfinertia.cli import writeback
 
@@ -72,13 +84,21 @@ def run(args: argparse.Namespace) -> int:
         finish_single(args, meshes)
     if args.output is not None and args.output.resolve() == args.urdf.resolve():
         raise OutputError("output is the input file: use --in-place", file=args.output)
+    document, rewritten = result.output, 0
+    if args.output is not None and not args.keep_mesh_paths:
+        from urdfinertia.descriptions.formats import relocate_references
+
+        document, rewritten = relocate_references(document, result.path, args.output)
     # everything is computed before the first write; the URDF (the file that matters)
     # is written first, so a failure leaves at most the JSON missing
     text = None
     if args.json is not None:
         from urdfinertia.render.results_json import fix_result_dict
 
-        text = json.dumps(fix_result_dict(result), indent=2)
+        doc = fix_result_dict(result)
+        doc["mesh_references_rewritten"] = rewritten
+        doc["exit_code"] = fix_exit_code(len(result.left))
+        text = json.dumps(doc, indent=2)
     from urdfinertia.cli import writeback
 
     # xacro: the sources are edited (--write-back, or --in-place on xacro input)
@@ -86,27 +106,33 @@ def run(args: argparse.Namespace) -> int:
         else None
     if args.in_place and plan is None:
         if result.changed:
-            write_in_place(args.urdf, result.output)
+            write_in_place(args.urdf, document)
     elif args.output is not None:
-        atomic_write_bytes(args.output, result.output)
+        atomic_write_bytes(args.output, document)
     if text is not None:
         atomic_write_bytes(args.json, text.encode())
     if not args.quiet:
-        from rich.console import Console
+        from urdfinertia.render.table import fix_console, print_fix_table
 
-        from urdfinertia.render.table import print_fix_table
-
-        console = Console(stderr=args.output is None and not args.in_place and plan is None,
-                          width=160)
+        console = fix_console(stderr=args.output is None and not args.in_place
+                              and plan is None)
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
         if plan is not None:
             writeback.print_summary(plan, console)
     if args.output is None and not args.in_place and plan is None:
-        sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
-    for r in result.failed:  # written, but these links were left as they were: exit 1
-        print(f"urdf-inertia: warning: {result.path}: link '{r.name}': {r.warnings[0]}",
-              file=sys.stderr)
-    return max(engine_regressions(args, result, options), 1 if result.failed else 0)
+        sys.stdout.buffer.write(document)  # a filter: -q only silences the table
+    for line in problem_lines(result):
+        print(f"urdf-inertia: warning: {line}", file=sys.stderr)
+    if rewritten:
+        print(f"urdf-inertia: {rewritten} relative mesh reference(s) rewritten to resolve "
+              f"from {args.output.parent} (--keep-mesh-paths keeps them)", file=sys.stderr)
+    left = left_lines(result)
+    for line in left:
+        print(f"urdf-inertia: left as it was: {line}", file=sys.stderr)
+    if left:
+        print(f"urdf-inertia: {len(left)} of {len(result.links)} links left as they were "
+              "(exit 1)", file=sys.stderr)
+    return max(fix_exit_code(len(left)), engine_regressions(args, result, options))
 
 
 def engine_regressions(args: argparse.Namespace, result, options) -> int:

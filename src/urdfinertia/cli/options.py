@@ -97,6 +97,7 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
         package_dirs=dict(args.package_dir),
         max_faces=args.max_faces,
         spec=spec,
+        strict=bool(getattr(args, "strict", False)),
     )
 
 

@@ -53,9 +53,9 @@ class DescriptionFormat:
     #: (bytes, path) -> bytes: for a file that generates another format's document (xacro
     #: -> URDF), the document that ``read`` reads and ``patch`` edits
     expand: Callable[[bytes, Path], bytes] | None = None
-    #: a link that cannot be computed is left as written and reported ("failed"), the
-    #: others are still written (exit 1), instead of failing the whole file
-    isolates_links: bool = False
+    #: (bytes, source folder, output folder) -> (bytes, references rewritten): relative
+    #: mesh references made to resolve from the output's folder; None: nothing to do
+    relocate: Callable[[bytes, Path, Path], tuple[bytes, int]] | None = None
 
 
 _FORMATS: dict[str, DescriptionFormat] = {}
@@ -113,6 +113,15 @@ def detect_format(data: bytes, path: Path) -> DescriptionFormat:
         if suffix in fmt.suffixes:
             return fmt
     return _FORMATS["urdf"]  # its reader names what is wrong with the document
+
+
+def relocate_references(data: bytes, path: Path, output: Path) -> tuple[bytes, int]:
+    """``data`` (a document read from ``path``) made to work when written at ``output``:
+    relative mesh references rewritten; and how many were."""
+    fmt = detect_format(data, path)
+    if fmt.relocate is None:
+        return data, 0
+    return fmt.relocate(data, path.parent, output.parent)
 
 
 def read_bytes(path: str | Path) -> bytes:

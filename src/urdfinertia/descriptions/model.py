@@ -139,6 +139,41 @@ class Joint:
     line: int | None = None
 
 
+#: Kinds of :class:`Problem`: how the reader went on.
+PROBLEM_KINDS = ("dropped", "ignored", "lenient")
+
+
+@dataclass(frozen=True)
+class Problem:
+    """Something in a description read past instead of refusing the whole document.
+
+    kind : "dropped" (the element, e.g. one ``<collision>``, is left out of the model),
+        "ignored" (a value not needed for inertials could not be read: a joint origin,
+        an existing ``<inertial>``), "lenient" (read the way urdfdom reads it, e.g. a
+        comma between numbers or an XML declaration of version 0.0).
+    code : short category for reports ("bad-number", "zero-size", "unsupported-shape",
+        "unexpanded-substitution", "xml-declaration", ...).
+    element : what it is about ("collision[1]", "joint 'j1'", "inertial"), None for the
+        document as a whole.
+    """
+
+    code: str
+    cause: str
+    line: int | None = None
+    link: str | None = None
+    element: str | None = None
+    kind: str = "dropped"
+
+    def describe(self, file: str | Path | None) -> str:
+        """One line: ``file:line: link 'name' element: cause`` (the errors' layout)."""
+        where = str(file) if file is not None else "<input>"
+        if self.line is not None:
+            where += f":{self.line}"
+        link = f" link '{self.link}'" if self.link else ""
+        element = f" {self.element}" if self.element else ""
+        return f"{where}:{link}{element}{':' if link or element else ''} {self.cause}"
+
+
 @dataclass(frozen=True)
 class Robot:
     name: str
@@ -147,6 +182,8 @@ class Robot:
     path: Path | None = None
     #: the registered description format that read it ("urdf", ...): it also writes it
     format: str = "urdf"
+    #: what the reader read past, in document order (elements dropped, values ignored)
+    problems: tuple[Problem, ...] = ()
 
     def link(self, name: str) -> Link:
         for link in self.links:

@@ -3,6 +3,12 @@
 Data flow: read (:mod:`urdf_read`) -> parts (:mod:`parts`) -> assemble (:mod:`assemble`)
 -> write (:mod:`urdf_write`). Nothing here touches the file system except through
 :func:`fix_file`'s reading; writing the result is the caller's job (:mod:`atomic`).
+
+Fault isolation: an element whose parts cannot be made (a missing or unreadable mesh, a
+mesh enclosing no volume) is dropped with a :class:`Problem`, and the link is computed from
+the rest; a link with nothing usable left, or whose parts cannot be combined, is left
+exactly as it was (status "left", with the reason). Whether that is acceptable (exit 1) or
+all-or-nothing (``--strict``) is the command line's decision.
 """
 
 from __future__ import annotations
@@ -15,8 +21,10 @@ from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, existing_mas
 from urdfinertia.link.results import FixResult, LinkResult
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.descriptions.model import Link, Robot
+    from urdfinertia.descriptions.model import GeometryRef, Link, Problem, Robot
     from urdfinertia.link.assemble import Assembly
     from urdfinertia.link.parts import MeshSource, Part
 
@@ -25,13 +33,17 @@ if TYPE_CHECKING:
 
 
 def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: Path,
-                 ) -> LinkResult:
-    """Recompute one link, or report why it stays untouched."""
+                 problems: Sequence[Problem] = ()) -> LinkResult:
+    """Recompute one link, or report why it stays untouched or is left as it was.
+
+    ``problems``: what the reader already read past in this link (dropped elements,
+    ignored values); they are reported with the link's result.
+    """
     from urdfinertia.link.assemble import assemble
-    from urdfinertia.link.parts import geometry_parts
 
     spec = options.spec
     link_spec = spec.link(link.name) if spec is not None else None
+    found = list(problems)
     if link_spec is not None:
         parts, pinned = link_spec.parts(link, meshes, urdf_dir)
         role = "spec"
@@ -40,12 +52,14 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
             pinned, reason = existing_mass(link), "kept"
     else:
         role, refs = select_geometry(link, options.geometry)
-        if not refs:
-            return LinkResult(link.name, "untouched", "none", None, link.inertial,
-                              ("no geometry: inertial left as it was", *link.notes))
-        parts = []
-        for ref in refs:
-            parts.extend(geometry_parts(ref, meshes, urdf_dir))
+        parts = _usable_parts(link, refs, meshes, urdf_dir, found)
+        if refs and not parts and options.geometry == "auto" and role == "collision" \
+                and link.visuals:
+            # every collision element was dropped: the visuals describe the same body
+            role = "visual"
+            parts = _usable_parts(link, link.visuals, meshes, urdf_dir, found)
+        if not parts:
+            return _not_computed(link, found)
         pinned = existing_mass(link) if options.mass == "keep" else None
         reason = "kept"
     try:
@@ -57,9 +71,71 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
     except UrdfInertiaError as exc:
         if link_spec is not None:  # the spec, not the URDF, made these parts
             raise exc.with_context(file=link_spec.path, link=link.name) from None
-        raise exc.with_context(link=link.name, line=link.line) from None
+        return LinkResult(link.name, "left", role, None, link.inertial, link.notes,
+                          tuple(found), exc.cause)
     warnings = link.notes + _warnings(parts, result)
-    return LinkResult(link.name, "recomputed", role, result, link.inertial, warnings)
+    return LinkResult(link.name, "recomputed", role, result, link.inertial, warnings,
+                      tuple(found))
+
+
+def _usable_parts(link: Link, refs: Sequence[GeometryRef], meshes: MeshSource,
+                  urdf_dir: Path, found: list[Problem]) -> list[Part]:
+    """The parts of every element of ``refs`` that makes them; each that does not is
+    dropped with a problem appended to ``found``."""
+    from urdfinertia.descriptions.model import Problem
+    from urdfinertia.link.parts import geometry_parts
+
+    parts: list[Part] = []
+    for ref in refs:
+        try:
+            parts.extend(geometry_parts(ref, meshes, urdf_dir))
+        except UrdfInertiaError as exc:
+            found.append(Problem(problem_code(exc), exc.cause, line=exc.line or ref.line,
+                                 link=link.name, element=ref.label, kind="dropped"))
+    return parts
+
+
+def _not_computed(link: Link, found: list[Problem]) -> LinkResult:
+    """A link without parts: untouched when it had nothing to compute from, else left."""
+    if not found:
+        return LinkResult(link.name, "untouched", "none", None, link.inertial,
+                          ("no geometry: inertial left as it was", *link.notes))
+    dropped = [p for p in found if p.kind == "dropped"]
+    ignored = [p for p in found if p.kind == "ignored"]
+    if dropped:
+        first = dropped[0]
+        more = f" and {len(dropped) - 1} more" if len(dropped) > 1 else ""
+        reason = (f"no usable geometry left ({first.element} line {first.line}: "
+                  f"{first.cause}{more})")
+    elif ignored:
+        reason = f"{ignored[0].cause}, and no geometry to compute it from"
+    else:  # only lenient notes: nothing wrong with the link itself
+        return LinkResult(link.name, "untouched", "none", None, link.inertial,
+                          ("no geometry: inertial left as it was", *link.notes), tuple(found))
+    return LinkResult(link.name, "left", "none", None, link.inertial, (), tuple(found),
+                      reason)
+
+
+#: Problem codes of element errors raised while making parts, by a phrase of the message.
+_CODES = (
+    ("not found", "mesh-missing"),
+    ("cannot resolve package", "mesh-unresolved"),
+    ("encloses no volume", "no-volume"),
+    ("no valid solid", "no-volume"),
+    ("unsupported mesh format", "mesh-format"),
+    ("only files are read", "mesh-url"),
+    ("only local files", "mesh-url"),
+    ("not allowed", "mesh-refused"),
+    ("limit", "mesh-too-large"),
+)
+
+
+def problem_code(exc: UrdfInertiaError) -> str:
+    """Short category of an element error, for reports ("mesh-missing", ...)."""
+    for phrase, code in _CODES:
+        if phrase in exc.cause:
+            return code
+    return "mesh-unreadable"
 
 
 def _warnings(parts: list[Part], result: Assembly) -> tuple[str, ...]:
@@ -101,19 +177,21 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
-    isolate = format_of(robot).isolates_links
+    by_link: dict[str, list[Problem]] = {}
+    for problem in robot.problems:
+        if problem.link is not None:
+            by_link.setdefault(problem.link, []).append(problem)
     results = []
     for link in robot.links:
         try:
-            results.append(compute_link(link, options, meshes, urdf_dir))
+            results.append(compute_link(link, options, meshes, urdf_dir,
+                                        by_link.get(link.name, ())))
         except UrdfInertiaError as exc:
-            if not isolate:
-                raise exc.with_context(file=path, link=link.name) from None
-            exc.with_context(file=path, link=link.name)
-            line = f":{exc.line}" if exc.line is not None else ""
-            results.append(LinkResult(link.name, "failed", "none", None, link.inertial, (
-                f"not computed, left as written ({Path(exc.file or path).name}{line}: "
-                f"{exc.cause})", *link.notes)))
+            raise exc.with_context(file=path, link=link.name) from None
+    if options.strict:
+        refusal = FixResult(path, robot, tuple(results), data, data).strict_refusal()
+        if refusal is not None:
+            raise refusal
     new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}
     try:
         output = format_of(robot).patch(data, new)

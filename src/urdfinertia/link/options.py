@@ -32,6 +32,8 @@ class FixOptions:
     mass : "keep" (keep a link's existing positive mass, geometry gives CoM and tensor)
         or "density" (mass = density x volume).
     density : kg/m^3 used when a link has no mass or with ``mass="density"``.
+    strict : all or nothing: an element dropped, a value of a link ignored or a link left
+        as it was makes :func:`~urdfinertia.link.fix.fix_robot` raise (``--strict``).
     """
 
     geometry: str = "auto"
@@ -40,6 +42,7 @@ class FixOptions:
     package_dirs: Mapping[str, Path] = field(default_factory=dict)
     max_faces: int = DEFAULT_MAX_FACES
     spec: object | None = None  # urdfinertia.link.spec.Spec, when given
+    strict: bool = False
 
     def __post_init__(self) -> None:
         if self.geometry not in GEOMETRY_MODES:

@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from urdfinertia.descriptions.model import Problem
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.results import FixResult, LinkResult
 
@@ -26,6 +27,10 @@ def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:
 def link_dict(r: LinkResult) -> dict[str, Any]:
     out: dict[str, Any] = {"link": r.name, "status": r.status, "geometry": r.geometry,
                            "warnings": list(r.warnings)}
+    if r.reason is not None:
+        out["reason"] = r.reason
+    if r.problems:
+        out["problems"] = [problem_dict(p) for p in r.problems]
     if r.previous is not None:
         prev = r.previous
         out["previous"] = {"mass": prev.mass, "com": list(prev.origin.xyz),
@@ -43,10 +48,19 @@ def link_dict(r: LinkResult) -> dict[str, Any]:
     return out
 
 
+def problem_dict(p: Problem) -> dict[str, Any]:
+    return {"kind": p.kind, "code": p.code, "line": p.line, "link": p.link,
+            "element": p.element, "cause": p.cause}
+
+
 def fix_result_dict(result: FixResult) -> dict[str, Any]:
     return {
         "file": str(result.path),
         "robot": result.robot.name,
         "changed": result.changed,
+        "links_left": [{"link": r.name, "line": result.left_error(r).line,
+                        "reason": r.reason} for r in result.left],
+        "document_problems": [problem_dict(p) for p in result.robot.problems
+                              if p.link is None],
         "links": [link_dict(r) for r in result.links],
     }

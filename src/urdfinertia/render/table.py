@@ -16,13 +16,79 @@ def _g(x: float) -> str:
     return f"{x:.4g}"
 
 
-def fix_table(results: Sequence[LinkResult], title: str) -> Table:
+#: fix table columns, most important first: a narrow terminal keeps a prefix of them
+#: (link and status always), with the width each needs to be readable.
+_FIX_COLUMNS = (("link", 0), ("mass kg", 10), ("notes", 24), ("CoM m", 26),
+                ("principal moments kg m^2", 28), ("geometry", 30))
+
+
+def fix_console(stderr: bool = False) -> Console:
+    from urdfinertia.render.console import output_console
+
+    return output_console(stderr)
+
+
+def _fix_columns(width: int | None) -> list[str]:
+    if width is None:
+        return [c for c, _ in _FIX_COLUMNS]
+    keep, used = [], 12
+    for name, need in _FIX_COLUMNS:
+        if used + need <= width or not keep:
+            keep.append(name)
+            used += need
+    return keep
+
+
+def _notes(r: LinkResult) -> str:
+    dropped = [f"{p.element} dropped (line {p.line}): {p.cause}" for p in r.problems
+               if p.kind == "dropped" and p.element]
+    ignored = [f"{p.element or 'value'} ignored (line {p.line}): {p.cause}"
+               for p in r.problems if p.kind == "ignored"]
+    return "; ".join((*dropped, *ignored, *collapse_notes(r.warnings)))
+
+
+def collapse_notes(notes: Sequence[str]) -> list[str]:
+    """Notes repeated for every body of one mesh (``collision[0] body 3: note``) as one
+    line with a count (``collision[0] (12 bodies): note``)."""
+    import re
+
+    counts: dict[tuple[str, str], int] = {}
+    order: list[tuple[str, str]] = []
+    for note in notes:
+        m = re.match(r"(.*?) body \d+: (.*)\Z", note, re.S)
+        key = (m.group(1), m.group(2)) if m else ("", note)
+        if key not in counts:
+            order.append(key)
+            counts[key] = 0
+        counts[key] += 1
+    out = []
+    for element, note in order:
+        n = counts[element, note]
+        if not element:
+            out.append(note)
+        else:
+            out.append(f"{element}{f' ({n} bodies)' if n > 1 else ' body'}: {note}")
+    return out
+
+
+def fix_table(results: Sequence[LinkResult], title: str, width: int | None = None) -> Table:
     table = Table(title=title, show_lines=False)
-    for col in ("link", "mass kg", "CoM m", "principal moments kg m^2", "geometry", "notes"):
+    columns = _fix_columns(width)
+    for col in columns:
         table.add_column(col, overflow="fold")
+
+    def row(cells: dict[str, str]) -> None:
+        table.add_row(*(cells[c] for c in columns))
+
     for r in results:
         if r.assembly is None:
-            table.add_row(r.name, "-", "-", "-", r.geometry, "; ".join(r.warnings))
+            if r.status == "left":
+                status = "[yellow]left as it was[/yellow]"
+                notes = f"[yellow]left as it was:[/yellow] {r.reason}"
+            else:
+                status, notes = r.geometry, "; ".join(x for x in (*r.warnings, _notes(r)) if x)
+            row({"link": r.name, "mass kg": "-", "CoM m": "-",
+                 "principal moments kg m^2": "-", "geometry": status, "notes": notes})
             continue
         t = r.assembly.total
         moments, _ = t.principal()
@@ -33,19 +99,19 @@ def fix_table(results: Sequence[LinkResult], title: str) -> Table:
             geo += f" ({', '.join(methods)})"
         else:  # --repair-only: the written values, corrected, no geometry involved
             geo = r.geometry
-        table.add_row(
-            r.name,
-            _g(t.mass),
-            _vec(t.com, r.size),  # round-off below 1e-12 x size shown as 0
-            " ".join(_g(m) for m in moments),
-            geo,
-            "; ".join((r.assembly.mass_source, *r.warnings)),
-        )
+        row({"link": r.name, "mass kg": _g(t.mass),
+             "CoM m": _vec(t.com, r.size),  # round-off below 1e-12 x size shown as 0
+             "principal moments kg m^2": " ".join(_g(m) for m in moments),
+             "geometry": geo,
+             "notes": "; ".join(x for x in (r.assembly.mass_source, _notes(r)) if x)})
     return table
 
 
 def print_fix_table(results: Sequence[LinkResult], title: str, console: Console) -> None:
-    console.print(fix_table(results, title))
+    from urdfinertia.render.console import PLAIN_WIDTH
+
+    width = None if console.width >= PLAIN_WIDTH else console.width
+    console.print(fix_table(results, title, width))
     from_spec = [r for r in results if r.geometry == "spec" and r.assembly is not None]
     if from_spec:
         console.print(element_table(from_spec, "per-element contributions (links in the spec)"))

@@ -145,8 +145,8 @@ def test_a_body_that_cannot_be_computed_is_left_as_written(tmp_path, capsys):
                     "</worldbody></mujoco>")
     result = fix_file(path, FixOptions())
     status = {r.name: r.status for r in result.links}
-    assert status == {"ok": "recomputed", "bad": "failed"}
-    assert "gone.stl" in result.failed[0].warnings[0]
+    assert status == {"ok": "recomputed", "bad": "left"}
+    assert "gone.stl" in result.left[0].reason
     assert b'<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>' in result.output
     out = tmp_path / "out.xml"
     assert main(["fix", str(path), "-o", str(out), "-q"]) == 1

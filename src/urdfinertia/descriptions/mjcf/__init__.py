@@ -30,5 +30,5 @@ def _patch(data, new):  # noqa: ANN001, ANN202
 
 register_format(DescriptionFormat(
     name="mjcf", roots=("mujoco",), suffixes=(".xml", ".mjcf"),
-    read=_read, read_lenient=_read_lenient, patch=_patch, isolates_links=True,
+    read=_read, read_lenient=_read_lenient, patch=_patch,
 ))

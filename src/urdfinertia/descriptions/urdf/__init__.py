@@ -27,7 +27,13 @@ def _patch(data, new):  # noqa: ANN001, ANN202
     return patch_inertials(data, new)
 
 
+def _relocate(data, source_dir, output_dir):  # noqa: ANN001, ANN202
+    from urdfinertia.descriptions.urdf.mesh_refs import relocate_mesh_refs
+
+    return relocate_mesh_refs(data, source_dir, output_dir)
+
+
 register_format(DescriptionFormat(
     name="urdf", roots=("robot",), suffixes=(".urdf",),
-    read=_read, read_lenient=_read_lenient, patch=_patch,
+    read=_read, read_lenient=_read_lenient, patch=_patch, relocate=_relocate,
 ))

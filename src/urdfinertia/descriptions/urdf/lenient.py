@@ -1,10 +1,11 @@
 """Inertials exactly as written, including values no simulator accepts.
 
-:func:`urdf_read.read_urdf` refuses non-finite numbers anywhere. A linter must instead
-report a ``nan`` or ``inf`` inside an ``<inertial>`` as a finding on its link, so
-:func:`read_urdf_lenient` reads the document the same way but lets non-finite values
-through inside ``<inertial>`` (into :class:`urdf_model.Inertial`, which holds plain
-floats). Anything else that is unreadable still raises :class:`UrdfError`.
+:func:`urdf_read.read_urdf` ignores an ``<inertial>`` holding non-finite numbers or absurd
+magnitudes (it recomputes it). A linter must instead judge a ``nan``, ``inf`` or a mass of
+``6e9`` (mm^3 taken as m^3) as a finding on its link, so :func:`read_urdf_lenient` reads
+the document the same way but lets such values through inside ``<inertial>`` (into
+:class:`urdf_model.Inertial`, which holds plain floats). Elements dropped and values
+ignored are in :attr:`Robot.problems`, as for ``fix``.
 """
 
 from __future__ import annotations
@@ -13,8 +14,13 @@ import dataclasses
 import math
 from pathlib import Path
 
-from urdfinertia.descriptions.model import Origin, Robot
-from urdfinertia.descriptions.urdf.read import parse_xml, read_urdf_bytes, robot_from_element
+from urdfinertia.descriptions.model import Origin, Problem, Robot
+from urdfinertia.descriptions.urdf.read import (
+    MAX_MAGNITUDE,
+    parse_xml,
+    read_urdf_bytes,
+    robot_from_element,
+)
 
 _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 
@@ -27,7 +33,8 @@ def read_urdf_lenient(path: str | Path) -> tuple[Robot, bytes]:
 
 def robot_from_bytes_lenient(data: bytes, path: str | Path) -> Robot:
     path = Path(path)
-    root = parse_xml(data, path)
+    notes: list[Problem] = []
+    root = parse_xml(data, path, notes)
     kept: dict[str, dict[str, tuple[float, ...]]] = {}
     for link_el in root.iterchildren("link"):
         for inertial_el in link_el.iterchildren("inertial"):
@@ -35,7 +42,7 @@ def robot_from_bytes_lenient(data: bytes, path: str | Path) -> Robot:
             if found:
                 kept[link_el.get("name", "")] = found
             break  # the reader uses the first <inertial> only
-    robot = robot_from_element(root, path)
+    robot = robot_from_element(root, path, notes)
     if not kept:
         return robot
     links = tuple(_restore(link, kept[link.name]) if link.name in kept else link
@@ -50,11 +57,13 @@ def _non_finite(text: str | None) -> tuple[float, ...] | None:
         values = tuple(float(p) for p in text.split())
     except ValueError:
         return None  # not numbers at all: the strict reader reports it
-    return values if not all(math.isfinite(v) for v in values) else None
+    readable = all(math.isfinite(v) and abs(v) <= MAX_MAGNITUDE for v in values)
+    return None if readable else values
 
 
 def _neutralise(inertial_el) -> dict[str, tuple[float, ...]]:
-    """Replace non-finite numbers by zeros in the tree; return what they were."""
+    """Replace non-finite and out-of-range numbers by zeros in the tree; return what they
+    were."""
     found: dict[str, tuple[float, ...]] = {}
     for child in inertial_el:
         if child.tag == "mass":

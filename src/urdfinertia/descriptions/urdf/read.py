@@ -1,13 +1,22 @@
 """Read a URDF with a hardened lxml parser into :mod:`urdf_model` objects.
 
 Entities are never resolved, no DTD is loaded and nothing is fetched from the network;
-documents that declare entities are refused outright (XXE, "billion laughs"). Numbers must
-be plain finite decimals; sizes must be positive and existing masses and principal
-diagonal moments non-negative (:func:`check_inertial_signs`, strict reading only).
+documents that declare entities are refused outright (XXE, "billion laughs").
+
+One bad element never sinks a robot: a ``<collision>``/``<visual>`` that cannot be read
+(numbers that are not plain finite decimals, a zero or negative size, an unsupported
+shape, an unexpanded ``$(...)``) is dropped from the model and a value not needed for
+inertials (a joint origin, an existing ``<inertial>``, a negative existing mass) is
+ignored, each recorded as a :class:`~urdfinertia.descriptions.model.Problem` in
+:attr:`Robot.problems` with its line. Lenient where the reading is unambiguous (commas
+between numbers), strict where it is not (4 numbers where 3 are needed). Only a document
+that cannot be read as a whole (not XML, not a ``<robot>``, a nameless or duplicate link)
+raises :class:`UrdfError`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from pathlib import Path
@@ -25,6 +34,7 @@ from urdfinertia.descriptions.model import (
     Link,
     Mesh,
     Origin,
+    Problem,
     Robot,
     Shape,
     Sphere,
@@ -45,9 +55,10 @@ _VALID_NUMBERS: dict[tuple[str, int], tuple[float, ...]] = {}
 _MAX_VALID_NUMBERS = 1 << 16
 
 
-def parse_xml(data: bytes, file: str | Path) -> etree._Element:
+def parse_xml(data: bytes, file: str | Path,
+              notes: list[Problem] | None = None) -> etree._Element:
     """Parse URDF bytes into an lxml root element (:func:`xml.parse_document`)."""
-    return parse_document(data, file, ("robot",))
+    return parse_document(data, file, ("robot",), notes)
 
 
 def read_urdf_bytes(path: str | Path) -> bytes:
@@ -62,10 +73,13 @@ def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
 
 
 def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
-    root = parse_xml(data, path)
-    robot = robot_from_element(root, Path(path))
-    check_inertial_signs(robot)
-    return robot
+    notes: list[Problem] = []
+    root = parse_xml(data, path, notes)
+    robot = robot_from_element(root, Path(path), notes)
+    signs = inertial_sign_problems(robot)
+    if not signs:
+        return robot
+    return dataclasses.replace(robot, problems=robot.problems + tuple(signs))
 
 
 #: Negative diagonal moments down to this (kg m^2) are CAD round-off of 0 (iCub has
@@ -73,63 +87,93 @@ def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
 NEGATIVE_MOMENT_ROUNDOFF = 1e-12
 
 
-def check_inertial_signs(robot: Robot) -> None:
-    """Refuse an existing ``<inertial>`` with a negative mass or diagonal moment.
+def inertial_sign_problems(robot: Robot) -> list[Problem]:
+    """An existing ``<inertial>`` with a negative mass or diagonal moment, as problems.
 
     Such values describe no body in any frame (a diagonal entry of a positive
-    semi-definite tensor is never negative). A zero mass is a common placeholder and is
-    accepted. The linter (:mod:`raw_inertial`) skips this check to report them instead.
+    semi-definite tensor is never negative): ``fix`` does not keep them (kind "ignored").
+    A zero mass is a common placeholder and is accepted. The linter (:mod:`lenient`)
+    reports them as findings instead.
     """
+    out = []
     for link in robot.links:
         inertial = link.inertial
         if inertial is None:
             continue
-        where = {"file": robot.path, "line": inertial.line, "link": link.name}
+        where = {"line": inertial.line, "link": link.name, "element": "inertial",
+                 "kind": "ignored"}
         if inertial.mass < 0:
-            raise UrdfError(f"<mass value=\"{inertial.mass:g}\"> is negative", **where)
+            out.append(Problem("negative-inertial",
+                               f"<mass value=\"{inertial.mass:g}\"> is negative", **where))
         for key in ("ixx", "iyy", "izz"):
             value = getattr(inertial, key)
             if value < -NEGATIVE_MOMENT_ROUNDOFF:
-                raise UrdfError(f"<inertia {key}=\"{value:g}\"> is negative", **where)
+                out.append(Problem("negative-inertial",
+                                   f"<inertia {key}=\"{value:g}\"> is negative", **where))
+    return out
 
 
-def robot_from_element(root: etree._Element, path: Path) -> Robot:
+def robot_from_element(root: etree._Element, path: Path,
+                       notes: list[Problem] | None = None) -> Robot:
+    """The robot of a parsed ``<robot>``; ``notes``: problems found before (parsing)."""
+    problems: list[Problem] = list(notes or ())
     links: list[Link] = []
     seen: set[str] = set()
     for el in _children(root, "link"):
-        link = _link(el, path)
+        link = _link(el, path, problems)
         if link.name in seen:
             raise UrdfError(f"duplicate link name '{link.name}'", file=path, line=el.sourceline)
         seen.add(link.name)
         links.append(link)
-    joints = tuple(_joint(el, path) for el in _children(root, "joint"))
-    return Robot(name=root.get("name", ""), links=tuple(links), joints=joints, path=path)
+    joints = tuple(_joint(el, path, problems) for el in _children(root, "joint"))
+    return Robot(name=root.get("name", ""), links=tuple(links), joints=joints, path=path,
+                 problems=tuple(problems))
 
 
 def _children(el: etree._Element, tag: str) -> list[etree._Element]:
     return [c for c in el if isinstance(c.tag, str) and c.tag == tag]
 
 
-class _Ctx:
-    """Where we are, for error messages."""
+#: Numbers separated by commas (and spaces): read as urdfdom's neighbours do, with a note.
+_COMMAS = re.compile(r"\s*,\s*|\s+")
 
-    def __init__(self, path: Path, link: str | None) -> None:
+
+class _Ctx:
+    """Where we are, for error messages; collects the problems read past."""
+
+    def __init__(self, path: Path, link: str | None, problems: list[Problem]) -> None:
         self.path = path
         self.link = link
+        self.problems = problems
 
-    def error(self, cause: str, el: etree._Element) -> UrdfError:
-        return UrdfError(cause, file=self.path, line=el.sourceline, link=self.link)
+    def error(self, cause: str, el: etree._Element, code: str = "bad-number") -> UrdfError:
+        exc = UrdfError(cause, file=self.path, line=el.sourceline, link=self.link)
+        exc.problem_code = code  # type: ignore[attr-defined]
+        return exc
+
+    def note(self, exc: UrdfError, element: str | None, kind: str) -> None:
+        self.problems.append(Problem(getattr(exc, "problem_code", "bad-number"), exc.cause,
+                                     line=exc.line, link=self.link, element=element,
+                                     kind=kind))
 
     def floats(self, el: etree._Element, attr: str, n: int, default: str | None = None,
                ) -> tuple[float, ...]:
         text = el.get(attr, default)
         if text is None:
-            raise self.error(f"<{el.tag}> is missing attribute '{attr}'", el)
+            raise self.error(f"<{el.tag}> is missing attribute '{attr}'", el,
+                             "missing-attribute")
         known = _VALID_NUMBERS.get((text, n))
         if known is not None:
             return known
         shown = text if len(text) <= 80 else text[:77] + "..."
+        if "$(" in text:
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> holds an unexpanded "
+                             "substitution $(...): run xacro first", el,
+                             "unexpanded-substitution")
         parts = text.split()
+        commas = "," in text
+        if commas:  # "1.57, 1.30 1.57": one reading only, so it is read (with a note)
+            parts = [p for p in _COMMAS.split(text.strip()) if p]
         if len(parts) != n:
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> needs {n} numbers", el)
         if not all(map(_NUMBER_MATCH, parts)):
@@ -141,6 +185,12 @@ class _Ctx:
         if values and max(map(abs, values)) > MAX_MAGNITUDE:  # all finite here
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (magnitude "
                              f"above {MAX_MAGNITUDE:g})", el)
+        if commas:
+            self.problems.append(Problem(
+                "comma-vector", f"<{el.tag} {attr}=\"{shown}\"> separates numbers with "
+                "commas (urdfdom refuses it): read as spaces", line=el.sourceline,
+                link=self.link, kind="lenient"))
+            return values
         if len(_VALID_NUMBERS) >= _MAX_VALID_NUMBERS:
             _VALID_NUMBERS.clear()
         _VALID_NUMBERS[text, n] = values
@@ -149,7 +199,8 @@ class _Ctx:
     def positive(self, el: etree._Element, attr: str, n: int = 1) -> tuple[float, ...]:
         values = self.floats(el, attr, n)
         if not all(v > 0 for v in values):
-            raise self.error(f"<{el.tag} {attr}=\"{el.get(attr)}\"> must be positive", el)
+            raise self.error(f"<{el.tag} {attr}=\"{el.get(attr)}\"> must be positive", el,
+                             "zero-size")
         return values
 
 
@@ -164,7 +215,8 @@ def _origin(parent: etree._Element, ctx: _Ctx) -> Origin:
 def _shape(geometry: etree._Element, ctx: _Ctx) -> Shape:
     kids = [c for c in geometry if isinstance(c.tag, str)]
     if len(kids) != 1:
-        raise ctx.error("<geometry> must hold exactly one shape", geometry)
+        raise ctx.error("<geometry> must hold exactly one shape", geometry,
+                        "unsupported-shape")
     el = kids[0]
     if el.tag == "box":
         return Box(ctx.positive(el, "size", 3))  # type: ignore[arg-type]
@@ -176,27 +228,41 @@ def _shape(geometry: etree._Element, ctx: _Ctx) -> Shape:
         radius = ctx.positive(el, "radius")[0]
         length = ctx.floats(el, "length", 1)[0]
         if length < 0:
-            raise ctx.error(f"<capsule length=\"{el.get('length')}\"> must be >= 0", el)
+            raise ctx.error(f"<capsule length=\"{el.get('length')}\"> must be >= 0", el,
+                            "zero-size")
         return Capsule(radius, length)
     if el.tag == "mesh":
         filename = el.get("filename")
         if not filename:
-            raise ctx.error("<mesh> is missing attribute 'filename'", el)
+            raise ctx.error("<mesh> is missing attribute 'filename'", el,
+                            "missing-attribute")
+        if "$(" in filename:
+            raise ctx.error(f"<mesh filename=\"{filename}\"> holds an unexpanded "
+                            "substitution $(...): run xacro first", el,
+                            "unexpanded-substitution")
         scale = ctx.floats(el, "scale", 3, "1 1 1")
         if any(s == 0 for s in scale):
-            raise ctx.error(f"<mesh scale=\"{el.get('scale')}\"> has a zero component", el)
+            raise ctx.error(f"<mesh scale=\"{el.get('scale')}\"> has a zero component", el,
+                            "zero-size")
         return Mesh(filename, scale)  # type: ignore[arg-type]
-    raise ctx.error(f"unsupported geometry <{el.tag}>", el)
+    raise ctx.error(f"unsupported geometry <{el.tag}>", el, "unsupported-shape")
 
 
 def _geometry_refs(link_el: etree._Element, role: str, ctx: _Ctx) -> tuple[GeometryRef, ...]:
+    """The link's readable elements of ``role``; each unreadable one is dropped with a
+    problem (its index stays its position in the file, so labels match the document)."""
     refs = []
     for index, el in enumerate(_children(link_el, role)):
-        geo = _children(el, "geometry")
-        if not geo:
-            raise ctx.error(f"<{role}> has no <geometry>", el)
-        refs.append(GeometryRef(role, index, el.get("name"), _origin(el, ctx),
-                                _shape(geo[0], ctx), el.sourceline))
+        name = el.get("name")
+        try:
+            geo = _children(el, "geometry")
+            if not geo:
+                raise ctx.error(f"<{role}> has no <geometry>", el, "unsupported-shape")
+            refs.append(GeometryRef(role, index, name, _origin(el, ctx),
+                                    _shape(geo[0], ctx), el.sourceline))
+        except UrdfError as exc:
+            label = f"{role}[{index}]" + (f" '{name}'" if name else "")
+            ctx.note(exc, label, "dropped")
     return tuple(refs)
 
 
@@ -208,7 +274,7 @@ def _inertial(link_el: etree._Element, ctx: _Ctx) -> Inertial | None:
     mass_el = _children(el, "mass")
     inertia_el = _children(el, "inertia")
     if not mass_el:
-        raise ctx.error("<inertial> has no <mass>", el)
+        raise ctx.error("<inertial> has no <mass>", el, "missing-attribute")
     mass = ctx.floats(mass_el[0], "value", 1)[0]
     if inertia_el:
         values = [ctx.floats(inertia_el[0], k, 1, "0")[0]
@@ -218,29 +284,40 @@ def _inertial(link_el: etree._Element, ctx: _Ctx) -> Inertial | None:
     return Inertial(_origin(el, ctx), mass, *values, line=el.sourceline)
 
 
-def _link(el: etree._Element, path: Path) -> Link:
+def _link(el: etree._Element, path: Path, problems: list[Problem]) -> Link:
     name = el.get("name")
     if not name:
         raise UrdfError("<link> without a name", file=path, line=el.sourceline)
-    ctx = _Ctx(path, name)
+    ctx = _Ctx(path, name, problems)
+    try:
+        inertial = _inertial(el, ctx)
+    except UrdfError as exc:  # fix recomputes it; left as written if it cannot
+        ctx.note(exc, "inertial", "ignored")
+        inertial = None
     return Link(
         name=name,
         collisions=_geometry_refs(el, "collision", ctx),
         visuals=_geometry_refs(el, "visual", ctx),
-        inertial=_inertial(el, ctx),
+        inertial=inertial,
         line=el.sourceline,
     )
 
 
-def _joint(el: etree._Element, path: Path) -> Joint:
-    ctx = _Ctx(path, None)
+def _joint(el: etree._Element, path: Path, problems: list[Problem]) -> Joint:
+    ctx = _Ctx(path, None, problems)
     parent = _children(el, "parent")
     child = _children(el, "child")
+    name = el.get("name", "")
+    try:
+        origin = _origin(el, ctx)
+    except UrdfError as exc:  # not needed for inertials: a note, never a refusal
+        ctx.note(exc, f"joint '{name}' origin", "ignored")
+        origin = Origin()
     return Joint(
-        name=el.get("name", ""),
+        name=name,
         type=el.get("type", ""),
         parent=parent[0].get("link", "") if parent else "",
         child=child[0].get("link", "") if child else "",
-        origin=_origin(el, ctx),
+        origin=origin,
         line=el.sourceline,
     )

@@ -1,0 +1,41 @@
+"""What a ``fix`` run tells the user it did: the exit code and the per-problem lines.
+
+The one home of ``fix``'s exit codes (the batch summary sums them up the same way):
+
+====  ==================================================================================
+0     every link that should be computed was (elements read past are warnings)
+1     the output was written, but some links were left exactly as they were (listed)
+2     nothing written: the file cannot be read as a whole, a security refusal, a bad
+      option, or with ``--strict`` any element dropped, value ignored or link left
+====  ==================================================================================
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from urdfinertia.link.results import FixResult
+
+EXIT_OK = 0
+EXIT_PARTIAL = 1
+EXIT_NOTHING_WRITTEN = 2
+
+
+def fix_exit_code(links_left: int) -> int:
+    return EXIT_PARTIAL if links_left else EXIT_OK
+
+
+def left_lines(result: FixResult) -> list[str]:
+    """One line per link left as it was: ``file:line: link 'x': reason``."""
+    return [str(result.left_error(r)) for r in result.left]
+
+
+def problem_lines(result: FixResult) -> list[str]:
+    """One line per problem read past, with what was done about it."""
+    done = {"dropped": "element dropped", "ignored": "value ignored",
+            "lenient": "read leniently"}
+    return [f"{p.describe(result.path)} ({done.get(p.kind, p.kind)})"
+            for p in result.problems]
+
+
