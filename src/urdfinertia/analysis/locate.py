@@ -66,6 +66,8 @@ class Locator:
         return self._masked
 
     def locate(self, finding: Finding) -> Location:
+        if finding.line is not None:  # the finding knows its element's line (a reader problem)
+            return self._first_tag_on(finding.line)
         element = finding.rule.element
         link = None
         if finding.link is not None:
@@ -85,6 +87,18 @@ class Locator:
         line = (link.inertial.line if element == "inertial" and link.inertial is not None
                 else None) or link.line
         return Location(line or 1, 1)
+
+    def _first_tag_on(self, line: int) -> Location:
+        """The first start tag on ``line`` (its column), or the line's start."""
+        if self._line_starts is None:
+            self._at(0)
+        starts = self._line_starts or [0]
+        if not 1 <= line <= len(starts):
+            return Location(line, 1)
+        begin = starts[line - 1]
+        end = starts[line] if line < len(starts) else len(self.text)
+        found = re.compile(rb"<(?![/?!])").search(self.text, begin, end)
+        return self._at(found.start()) if found else Location(line, 1)
 
     def _root(self) -> Location:
         found = re.search(rb"<(?![?!])", self.text)
