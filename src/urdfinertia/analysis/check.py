@@ -58,7 +58,8 @@ def _rules(*rows: tuple[str, str, str, str, str]) -> dict[str, Rule]:
 #: Every kind of finding, by code: the ONE place rule ids are given. An id is never reused
 #: or renumbered (baselines and code-scanning alerts are keyed on it); add new kinds at the
 #: end of their block. UI1xx: the written values; UI2xx: against the geometry; UI3xx:
-#: the robot as simulators merge it; UI4xx: loading and stepping in the engines.
+#: the robot as simulators merge it; UI4xx: loading and stepping in the engines; UI5xx:
+#: what the reader read past that other loaders refuse.
 RULES: dict[str, Rule] = _rules(
     ("UI101", "missing-inertial", "link", "error", "a moving link has no <inertial>"),
     ("UI102", "mass-not-finite", "inertial", "error", "mass is NaN or infinite"),
@@ -74,6 +75,9 @@ RULES: dict[str, Rule] = _rules(
      "principal moments violate A + B >= C"),
     ("UI111", "placeholder-inertia", "inertial", "warning",
      "equal diagonal, no products: a placeholder tensor"),
+    ("UI112", "mass-absurd", "inertial", "error",
+     "a mass no robot link has (a unit slip such as mm^3 read as m^3)"),
+    ("UI113", "inertia-absurd", "inertial", "error", "inertia components no robot link has"),
     ("UI201", "geometry-unreadable", "link", "warning", "the link's geometry cannot be read"),
     ("UI202", "implausible-density", "inertial", "warning",
      "mass / geometry volume is no material's density"),
@@ -81,6 +85,8 @@ RULES: dict[str, Rule] = _rules(
      "CoM far outside the geometry's bounding box"),
     ("UI204", "inertia-vs-geometry", "inertial", "warning",
      "tensor size implausible for the mass and geometry"),
+    ("UI205", "mesh-unresolved", "link", "error",
+     "a mesh reference does not resolve to a file"),
     ("UI301", "lumped-mass", "link", "info", "fixed joints merge links into this body"),
     ("UI401", "engine-refused", "robot", "error", "a simulator refuses to load the robot"),
     ("UI402", "engine-nan", "robot", "error", "a passive run in a simulator produced NaN"),
@@ -97,6 +103,15 @@ RULES: dict[str, Rule] = _rules(
     ("UI409", "engine-regression", "robot", "error",
      "a simulator accepted the input and refuses the fixed output"),
     ("UI410", "engine-skipped", "robot", "info", "the engines cannot load this format"),
+    ("UI501", "vector-unparseable", "link", "error",
+     "a vector other loaders (urdfdom) cannot parse"),
+    ("UI502", "unexpanded-substitution", "link", "error", "an unexpanded $(...) substitution"),
+    ("UI503", "zero-size-primitive", "link", "warning", "a primitive of zero or negative size"),
+    ("UI504", "unsupported-geometry", "link", "warning",
+     "a geometry no inertia can come from (plane, unknown shape, two shapes)"),
+    ("UI505", "missing-attribute", "link", "error", "a required attribute is missing"),
+    ("UI506", "xml-read-leniently", "robot", "warning",
+     "XML that strict parsers refuse (declaration, undeclared prefix, trailing content)"),
 )
 
 
