@@ -1,3 +1,0 @@
-"""urdfinertia: correct the <inertial> tags of URDF robot descriptions from their geometry."""
-
-__version__ = "0.1.0"
