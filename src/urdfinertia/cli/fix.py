@@ -40,6 +40,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="keep every mass and CoM; only lift the principal moments of invalid "
                         "tensors (not positive definite, A + B < C) just enough; geometry "
                         "options are ignored")
+    p.add_argument("--keep-auto", action="store_true",
+                   help="SDFormat: leave <inertial auto=\"true\"> for the simulator to compute "
+                        "(default: write explicit values and drop the auto attribute)")
     add_batch_arguments(p)
 
 
@@ -82,7 +85,12 @@ def run(args: argparse.Namespace) -> int:
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
     if args.output is None and not args.in_place:
         sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
-    return 0
+    for note in result.robot.notes:  # e.g. SDF <include>s, which are not followed
+        print(f"urdf-inertia: warning: {result.path}: {note}", file=sys.stderr)
+    for r in result.failed:  # written, but these links were left as they were: exit 1
+        print(f"urdf-inertia: warning: {result.path}: link '{r.name}': {r.warnings[0]}",
+              file=sys.stderr)
+    return 1 if result.failed else 0
 
 
 __all__ = ["add_arguments", "run", "UrdfInertiaError"]

@@ -88,6 +88,7 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
         package_dirs=dict(args.package_dir),
         max_faces=args.max_faces,
         spec=spec,
+        keep_auto=getattr(args, "keep_auto", False),
     )
 
 

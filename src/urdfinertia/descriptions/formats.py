@@ -50,11 +50,14 @@ class DescriptionFormat:
     patch: Callable[[bytes, NewInertials], bytes]
     #: decides a file whose root element is shared with another format (xacro's <robot>)
     claims: Callable[[bytes, Path], bool] | None = None
+    #: a link that cannot be computed is left as written and reported ("failed"), the
+    #: others are still written (exit 1), instead of failing the whole file
+    isolates_links: bool = False
 
 
 _FORMATS: dict[str, DescriptionFormat] = {}
 #: Modules that register the built-in formats when first imported.
-_BUILTIN = ("urdfinertia.descriptions.urdf",)
+_BUILTIN = ("urdfinertia.descriptions.urdf", "urdfinertia.descriptions.sdf")
 #: Bytes searched for the root element (comments and a DOCTYPE may come first).
 _SNIFF_BYTES = 1 << 16
 _PROLOG = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s+|<\?.*?\?>|<!--.*?-->|<![^>]*>)*", re.S)

@@ -76,6 +76,10 @@ class GeometryRef:
     #: ``density``/``mass``, SDF ``<density>``): kg/m^3 and kg, None when it says nothing
     density: float | None = None
     mass: float | None = None
+    #: ``density``/``mass`` only weigh the elements against each other: a link mass that
+    #: is kept scales them all (MJCF: MuJoCo ignores geom materials of a body that has an
+    #: ``<inertial>``; their proportions still say where the mass is)
+    relative: bool = False
 
     @property
     def label(self) -> str:
@@ -118,6 +122,14 @@ class Link:
     visuals: tuple[GeometryRef, ...] = ()
     inertial: Inertial | None = None
     line: int | None = None
+    #: the elements the format itself counts for inertia, when it has such a rule (MJCF:
+    #: geoms whose group is in ``inertiagrouprange``); ``--geometry auto`` then uses them
+    inertia_geometry: tuple[GeometryRef, ...] | None = None
+    #: what the reader wants said about this link (dropped elements, included files)
+    notes: tuple[str, ...] = ()
+    #: the format asks its simulator to compute this inertial at load time (SDFormat
+    #: ``<inertial auto="true">``): ``fix --keep-auto`` leaves it so
+    auto_inertial: bool = False
 
 
 @dataclass(frozen=True)
@@ -138,6 +150,8 @@ class Robot:
     path: Path | None = None
     #: the registered description format that read it ("urdf", ...): it also writes it
     format: str = "urdf"
+    #: what the reader wants said about the document (SDF includes it does not follow)
+    notes: tuple[str, ...] = ()
 
     def link(self, name: str) -> Link:
         for link in self.links:

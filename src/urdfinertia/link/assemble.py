@@ -37,6 +37,27 @@ class Assembly:
     mass_source: str  # e.g. "kept 2.5 kg", "density 1000 kg/m^3"
 
 
+def _scaled_to(parts: Sequence[Part], mass: float) -> list[Part]:
+    """Parts whose stated masses and densities are weights, scaled to sum to ``mass``.
+
+    A factor within round-off of 1 is taken as 1, so that a mass written from these very
+    parts reads back to the same parts (``fix`` stays idempotent).
+    """
+    import dataclasses
+
+    weight = sum(_signed(p, p.mass if p.mass is not None else (p.density or 0.0) * p.volume)
+                 for p in parts)
+    if not weight > 0:
+        raise UrdfInertiaError("the parts' stated masses and densities weigh nothing: the "
+                               f"kept link mass {mass:.6g} kg cannot be shared")
+    k = mass / weight
+    if abs(k - 1.0) < 1e-12:
+        return list(parts)
+    return [dataclasses.replace(p, mass=None if p.mass is None else p.mass * k,
+                                density=None if p.density is None else p.density * k)
+            for p in parts]
+
+
 def _signed(part: Part, value: float) -> float:
     return -value if part.cavity else value
 
@@ -57,6 +78,8 @@ def assemble(parts: Sequence[Part], *, density: float, pinned_mass: float | None
     """
     if not parts:
         raise UrdfInertiaError("link has no parts")
+    if pinned_mass is not None and all(p.relative for p in parts):
+        parts = _scaled_to(parts, pinned_mass)
     known = 0.0
     free_volume = 0.0
     for p in parts:

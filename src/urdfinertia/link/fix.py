@@ -30,6 +30,10 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
     from urdfinertia.link.assemble import assemble
     from urdfinertia.link.parts import geometry_parts
 
+    if options.keep_auto and link.auto_inertial:
+        return LinkResult(link.name, "untouched", "none", None, link.inertial,
+                          ("auto inertia kept (--keep-auto): the simulator computes it",
+                           *link.notes))
     spec = options.spec
     link_spec = spec.link(link.name) if spec is not None else None
     if link_spec is not None:
@@ -42,7 +46,7 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
         role, refs = select_geometry(link, options.geometry)
         if not refs:
             return LinkResult(link.name, "untouched", "none", None, link.inertial,
-                              ("no geometry: inertial left as it was",))
+                              ("no geometry: inertial left as it was", *link.notes))
         parts = []
         for ref in refs:
             parts.extend(geometry_parts(ref, meshes, urdf_dir))
@@ -58,7 +62,7 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
         if link_spec is not None:  # the spec, not the URDF, made these parts
             raise exc.with_context(file=link_spec.path, link=link.name) from None
         raise exc.with_context(link=link.name, line=link.line) from None
-    warnings = _warnings(parts, result)
+    warnings = link.notes + _warnings(parts, result)
     return LinkResult(link.name, "recomputed", role, result, link.inertial, warnings)
 
 
@@ -101,12 +105,19 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
+    isolate = format_of(robot).isolates_links
     results = []
     for link in robot.links:
         try:
             results.append(compute_link(link, options, meshes, urdf_dir))
         except UrdfInertiaError as exc:
-            raise exc.with_context(file=path, link=link.name) from None
+            if not isolate:
+                raise exc.with_context(file=path, link=link.name) from None
+            exc.with_context(file=path, link=link.name)
+            line = f":{exc.line}" if exc.line is not None else ""
+            results.append(LinkResult(link.name, "failed", "none", None, link.inertial, (
+                f"not computed, left as written ({Path(exc.file or path).name}{line}: "
+                f"{exc.cause})", *link.notes)))
     new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}
     try:
         output = format_of(robot).patch(data, new)

@@ -40,6 +40,8 @@ class FixOptions:
     package_dirs: Mapping[str, Path] = field(default_factory=dict)
     max_faces: int = DEFAULT_MAX_FACES
     spec: object | None = None  # urdfinertia.link.spec.Spec, when given
+    #: leave inertials the description asks its simulator to compute (SDF auto="true")
+    keep_auto: bool = False
 
     def __post_init__(self) -> None:
         if self.geometry not in GEOMETRY_MODES:

@@ -72,6 +72,8 @@ class Part:
         holes capped ...); "closed form" for primitives.
     uncertainty : float or None
         Stated relative error of the volume (0 for exact methods).
+    relative : bool
+        ``density``/``mass`` are weights: a pinned link mass scales them (see assemble).
     """
 
     name: str
@@ -85,6 +87,7 @@ class Part:
     notes: tuple[str, ...] = field(default=())
     provenance: str = ""
     uncertainty: float | None = None
+    relative: bool = False
 
     @property
     def volume(self) -> float:
@@ -150,7 +153,8 @@ def geometry_parts(ref: GeometryRef, meshes: MeshSource, urdf_dir: Path) -> list
         parts.append(Part(name=name, element=ref.label, unit=body.unit, pose=pose,
                           method=body.method, density=ref.density,
                           mass=_share(ref.mass, body.unit, bodies), notes=body.notes,
-                          provenance=body.provenance, uncertainty=body.uncertainty))
+                          provenance=body.provenance, uncertainty=body.uncertainty,
+                          relative=ref.relative))
     return parts
 
 

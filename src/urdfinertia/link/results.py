@@ -16,7 +16,7 @@ class LinkResult:
     """What happened to one link."""
 
     name: str
-    status: str  # "recomputed" | "untouched"
+    status: str  # "recomputed" | "untouched" | "failed" (formats that isolate links)
     geometry: str  # "collision" | "visual" | "spec" | "none"
     assembly: Assembly | None
     previous: Inertial | None
@@ -40,6 +40,11 @@ class FixResult:
     links: tuple[LinkResult, ...]
     original: bytes
     output: bytes
+
+    @property
+    def failed(self) -> tuple[LinkResult, ...]:
+        """Links that could not be computed and were left as written."""
+        return tuple(r for r in self.links if r.status == "failed")
 
     @property
     def changed(self) -> bool:
