@@ -60,17 +60,54 @@ def drake_fix_inertia(src: Path, dst: Path, timeout: float = 300.0) -> str | Non
     return None
 
 
-def _main(argv: list[str]) -> int:  # runs under Drake's Python
+def drake_batch(jobs: list[dict], timeout: float = 3600.0) -> list[dict]:
+    """Many jobs in one Drake process: ``{"parse": path, "packages": {name: dir}}`` gives
+    :func:`drake_bodies`'s answer, ``{"fix": src, "out": dst}`` runs ``fix_inertia``
+    (``{"error": text}`` or ``{}``). Answers in the order of ``jobs``."""
+    python = drake_python()
+    if python is None:
+        raise RuntimeError("no Python with pydrake")
+    done = subprocess.run([python, __file__, "--batch"], input=json.dumps(jobs),
+                          capture_output=True, text=True, timeout=timeout)
+    if done.returncode != 0:
+        raise RuntimeError(done.stderr.strip()[-2000:])
+    return json.loads(done.stdout)
+
+
+def _batch() -> int:  # runs under Drake's Python
+    import contextlib
+    import io
+
+    from pydrake.multibody import _inertia_fixer
+
+    answers = []
+    for job in json.load(sys.stdin):
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
+                if "fix" in job:
+                    _inertia_fixer.InertiaFixer(
+                        input_file=job["fix"], output_file=job["out"], in_place=False,
+                        geom_inertia_role_order=_inertia_fixer.GEOM_INERTIA_ROLE_ORDER_DEFAULT,
+                    ).fix_inertia()
+                    answers.append({})
+                else:
+                    answers.append({"bodies": _bodies(job["parse"], job.get("packages", {}))})
+        except Exception as exc:  # noqa: BLE001 - every failure is an answer
+            answers.append({"error": f"{type(exc).__name__}: {str(exc).strip()[:300]}"})
+    json.dump(answers, sys.stdout)
+    return 0
+
+
+def _bodies(path: str, packages: dict[str, str]) -> dict:
     from pydrake.multibody.parsing import Parser
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.multibody.tree import BodyIndex, RigidBody
 
     plant = MultibodyPlant(time_step=0.0)
     parser = Parser(plant)
-    for item in argv[1:]:
-        name, _, folder = item.partition("=")
+    for name, folder in packages.items():
         parser.package_map().Add(name, folder)
-    parser.AddModels(argv[0])
+    parser.AddModels(path)
     bodies = {}
     for i in range(plant.num_bodies()):
         body = plant.get_body(BodyIndex(i))
@@ -82,7 +119,14 @@ def _main(argv: list[str]) -> int:  # runs under Drake's Python
         scoped = plant.GetModelInstanceName(body.model_instance()) + "::" + body.name()
         bodies[scoped] = {"mass": m.get_mass(), "com": list(com),
                           "inertia": about_com.tolist()}
-    json.dump({"bodies": bodies}, sys.stdout)
+    return bodies
+
+
+def _main(argv: list[str]) -> int:  # runs under Drake's Python
+    if argv == ["--batch"]:
+        return _batch()
+    packages = dict(item.partition("=")[::2] for item in argv[1:])
+    json.dump({"bodies": _bodies(argv[0], packages)}, sys.stdout)
     return 0
 
 

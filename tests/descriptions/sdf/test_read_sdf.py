@@ -1,3 +1,4 @@
+# ruff: noqa: E501 - SDF fixtures are easier to read one element per line
 """SDFormat reading: poses and frames as libsdformat resolves them, names, dropped elements."""
 
 from __future__ import annotations

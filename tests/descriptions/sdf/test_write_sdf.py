@@ -1,3 +1,4 @@
+# ruff: noqa: E501 - SDF fixtures are easier to read one element per line
 """SDFormat fix: closed forms in SDF's conventions, only inertial bytes change, idempotence,
 automatic inertia."""
 
