@@ -8,22 +8,28 @@ inertials, :mod:`.write` splices new inertials into the document's own bytes.
 
 from __future__ import annotations
 
-from urdfinertia.descriptions.formats import DescriptionFormat, register_format
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from urdfinertia.descriptions.formats import DescriptionFormat, NewInertials, register_format
+
+if TYPE_CHECKING:
+    from urdfinertia.descriptions.model import Robot
 
 
-def _read(data, path):  # noqa: ANN001, ANN202 - the format's signature
+def _read(data: bytes, path: Path) -> Robot:
     from urdfinertia.descriptions.sdf.read import robot_from_bytes
 
     return robot_from_bytes(data, path)
 
 
-def _read_lenient(data, path):  # noqa: ANN001, ANN202
+def _read_lenient(data: bytes, path: Path) -> Robot:
     from urdfinertia.descriptions.sdf.read import robot_from_bytes
 
     return robot_from_bytes(data, path, lenient=True)
 
 
-def _patch(data, new):  # noqa: ANN001, ANN202
+def _patch(data: bytes, new: NewInertials) -> bytes:
     from urdfinertia.descriptions.sdf.write import patch_inertials
 
     return patch_inertials(data, new)

@@ -15,6 +15,7 @@ conversion renames it to ``relative_to``, and so is it read here.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -27,7 +28,9 @@ from urdfinertia.inertia.rotation import rpy_matrix
 MODEL_FRAME = "__model__"
 
 
-def parse_pose(el: etree._Element | None, numbers) -> tuple[np.ndarray, str | None]:  # noqa: ANN001
+def parse_pose(el: etree._Element | None,
+               numbers: Callable[[etree._Element, str], tuple[float, ...]],
+               ) -> tuple[np.ndarray, str | None]:
     """(4, 4) transform of a ``<pose>`` element and its ``relative_to`` (None: default).
 
     ``numbers(el, text)`` turns the element's text into floats (the reader's checks).
@@ -121,7 +124,8 @@ class Scope:
             return self._resolved[name]
         head, sep, rest = name.partition("::")
         if sep and head in self.nested:
-            return self._resolve(head, visiting) @ self.nested[head].in_model(rest)
+            nested: np.ndarray = self._resolve(head, visiting) @ self.nested[head].in_model(rest)
+            return nested
         frame = self.frames.get(name)
         if frame is None:
             raise UrdfError(f"pose is relative to '{name}', which is no frame of model "
@@ -130,6 +134,6 @@ class Scope:
             chain = " -> ".join((*visiting, name))
             raise UrdfError(f"poses relative to each other in a cycle: {chain}",
                             line=frame.line)
-        found = self._resolve(frame.relative_to, (*visiting, name)) @ frame.pose
+        found: np.ndarray = self._resolve(frame.relative_to, (*visiting, name)) @ frame.pose
         self._resolved[name] = found
         return found

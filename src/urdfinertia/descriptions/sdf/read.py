@@ -153,10 +153,12 @@ def _child(el: etree._Element, tag: str) -> etree._Element | None:
 
 
 def _pose(el: etree._Element, ctx: _Ctx) -> tuple[np.ndarray, str | None]:
+    pose = _child(el, "pose")
     try:
-        return parse_pose(_child(el, "pose"), lambda e, t: ctx.numbers(e, t))
+        return parse_pose(pose, ctx.numbers)
     except ValueError as exc:
-        raise _Dropped(f"{exc} (line {_child(el, 'pose').sourceline})") from None
+        line = pose.sourceline if pose is not None else el.sourceline
+        raise _Dropped(f"{exc} (line {line})") from None
 
 
 def _origin(t: np.ndarray) -> Origin:
@@ -203,11 +205,11 @@ def _shape(geometry: etree._Element, ctx: _Ctx, notes: list[str], label: str) ->
             raise _Dropped(f"<mesh><scale> must be 3 non-zero numbers (line {el.sourceline})")
         submesh = _child(el, "submesh")
         if submesh is not None:
-            name = (_child(submesh, "name").text or "").strip() if _child(
-                submesh, "name") is not None else ""
+            name_el = _child(submesh, "name")
+            name = (name_el.text or "").strip() if name_el is not None else ""
             notes.append(f"{label}: <submesh> '{name}' not honoured: the whole mesh file "
                          "is used")
-        return Mesh(uri, scale)  # type: ignore[arg-type]
+        return Mesh(uri, (scale[0], scale[1], scale[2]))
     if kind in _NO_VOLUME:
         raise _Dropped(f"<{kind}> (line {el.sourceline}): {_NO_VOLUME[kind]}")
     raise _Dropped(f"unsupported geometry <{kind}> (line {el.sourceline})")
@@ -260,7 +262,8 @@ def _in_link(scope: Scope, link_pose: np.ndarray, t: np.ndarray, rel: str | None
     """Pose ``t`` (relative to ``rel``, default: the link) in the link frame."""
     if rel is None:
         return t
-    return np.linalg.inv(link_pose) @ scope.in_model(rel) @ t
+    found: np.ndarray = np.linalg.inv(link_pose) @ scope.in_model(rel) @ t
+    return found
 
 
 def _geometry(link_el: etree._Element, role: str, scope: Scope, link_pose: np.ndarray,
@@ -311,8 +314,9 @@ def _inertial(el: etree._Element, scope: Scope, link_pose: np.ndarray, ctx: _Ctx
     except UrdfError as exc:
         raise _Dropped(exc.cause) from None
     origin = _origin(pose) if np.all(np.isfinite(pose)) else Origin(
-        tuple(t[:3, 3]), (0.0, 0.0, 0.0))  # type: ignore[arg-type]
-    return Inertial(origin, mass, *(values[k] for k in _INERTIA_KEYS), line=el.sourceline)
+        (float(t[0, 3]), float(t[1, 3]), float(t[2, 3])), (0.0, 0.0, 0.0))
+    return Inertial(origin, mass, values["ixx"], values["ixy"], values["ixz"], values["iyy"],
+                    values["iyz"], values["izz"], line=el.sourceline)
 
 
 def _uses_density(link_el: etree._Element) -> bool:
