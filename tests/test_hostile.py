@@ -198,7 +198,7 @@ def test_malformed_xml_names_line(workdir, capsys):
 
 def test_not_a_robot(workdir, capsys):
     urdf = workdir / "sdf.urdf"
-    urdf.write_text('<sdf version="1.6"><model name="m"/></sdf>')
+    urdf.write_text('<scene version="1.6"><model name="m"/></scene>')  # no format's root
     expect_refusal(workdir, urdf, capsys, "sdf.urdf:1:", "expected <robot>")
 
 

@@ -57,6 +57,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="keep relative mesh references as written even when the output "
                         "lands in another folder (default: rewrite them to resolve from "
                         "the output's folder)")
+    p.add_argument("--keep-auto", action="store_true",
+                   help="SDFormat: leave <inertial auto=\"true\"> for the simulator to compute "
+                        "(default: write explicit values and drop the auto attribute)")
     add_batch_arguments(p)
     from urdfinertia.cli import writeback
 
@@ -121,6 +124,8 @@ def run(args: argparse.Namespace) -> int:
             writeback.print_summary(plan, console)
     if args.output is None and not args.in_place and plan is None:
         sys.stdout.buffer.write(document)  # a filter: -q only silences the table
+    for note in result.robot.notes:  # e.g. SDF <include>s, which are not followed
+        print(f"urdf-inertia: warning: {result.path}: {note}", file=sys.stderr)
     for line in problem_lines(result):
         print(f"urdf-inertia: warning: {line}", file=sys.stderr)
     if rewritten:

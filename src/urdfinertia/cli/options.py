@@ -98,6 +98,7 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
         max_faces=args.max_faces,
         spec=spec,
         strict=bool(getattr(args, "strict", False)),
+        keep_auto=getattr(args, "keep_auto", False),
     )
 
 

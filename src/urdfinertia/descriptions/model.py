@@ -127,6 +127,9 @@ class Link:
     inertia_geometry: tuple[GeometryRef, ...] | None = None
     #: what the reader wants said about this link (dropped elements, included files)
     notes: tuple[str, ...] = ()
+    #: the format asks its simulator to compute this inertial at load time (SDFormat
+    #: ``<inertial auto="true">``): ``fix --keep-auto`` leaves it so
+    auto_inertial: bool = False
 
 
 @dataclass(frozen=True)
@@ -184,6 +187,8 @@ class Robot:
     format: str = "urdf"
     #: what the reader read past, in document order (elements dropped, values ignored)
     problems: tuple[Problem, ...] = ()
+    #: what the reader wants said about the document (SDF includes it does not follow)
+    notes: tuple[str, ...] = ()
 
     def link(self, name: str) -> Link:
         for link in self.links:

@@ -1,4 +1,5 @@
-"""Resolve mesh URIs of a URDF (relative, ``file://`` and ``package://``) to files.
+"""Resolve mesh URIs of a URDF (relative, ``file://`` and ``package://``) or of an SDFormat
+model (also ``model://``) to files.
 
 Only local regular files are ever returned: other URL schemes, ``file://`` URIs naming a
 remote host, FIFOs and devices are refused, so nothing is fetched and no read can block.
@@ -58,6 +59,36 @@ def _find_package_memo(name: str, urdf_dir: Path, package_dirs: tuple[tuple[str,
     return find_package(name, urdf_dir, dict(package_dirs))
 
 
+#: Search paths of Gazebo (old and new names) and libsdformat for ``model://NAME``.
+MODEL_PATH_VARIABLES = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "SDF_PATH",
+                        "GAZEBO_MODEL_PATH")
+
+
+def find_model(name: str, sdf_dir: Path, package_dirs: Mapping[str, Path]) -> Path | None:
+    """Folder of SDFormat model ``name`` (what ``model://NAME/...`` refers to).
+
+    Order: ``package_dirs`` (``--package-dir NAME=PATH``), then the folders listed in
+    :data:`MODEL_PATH_VARIABLES` (``ROOT/NAME``), then the file's folder and its ancestors:
+    a folder named ``name`` holding a ``model.config``, or one that has such a subfolder.
+    """
+    if name in package_dirs:
+        return Path(package_dirs[name])
+    for variable in MODEL_PATH_VARIABLES:
+        for root in os.environ.get(variable, "").split(os.pathsep):
+            if root and (Path(root) / name).is_dir():
+                return Path(root) / name
+    folder = sdf_dir.resolve()
+    for cand in (folder, *folder.parents):
+        if cand.name == name and (cand / "model.config").is_file():
+            return cand
+        if (cand / name / "model.config").is_file():
+            return cand / name
+    for cand in (folder, *folder.parents):  # a model folder without its model.config
+        if cand.name == name:
+            return cand
+    return None
+
+
 def _is_package(folder: Path, name: str) -> bool:
     if folder.name == name:
         return True
@@ -100,6 +131,17 @@ def resolve_mesh_path(
             raise MeshError(
                 f"cannot resolve package '{name}' in {uri!r}: pass --package-dir {name}=PATH "
                 "or set ROS_PACKAGE_PATH"
+            )
+        path = root / rel
+    elif scheme == "model":
+        name, rel = parsed.netloc, unquote(parsed.path).lstrip("/")
+        if not _PACKAGE_NAME_OK.match(name):
+            raise MeshError(f"mesh URI {uri!r} does not name a valid model")
+        root = find_model(name, urdf_dir, package_dirs)
+        if root is None:
+            raise MeshError(
+                f"cannot resolve model '{name}' in {uri!r}: pass --package-dir {name}=PATH "
+                "or set GZ_SIM_RESOURCE_PATH"
             )
         path = root / rel
     elif scheme == "file":

@@ -41,6 +41,10 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
     """
     from urdfinertia.link.assemble import assemble
 
+    if options.keep_auto and link.auto_inertial:
+        return LinkResult(link.name, "untouched", "none", None, link.inertial,
+                          ("auto inertia kept (--keep-auto): the simulator computes it",
+                           *link.notes))
     spec = options.spec
     link_spec = spec.link(link.name) if spec is not None else None
     found = list(problems)

@@ -43,6 +43,8 @@ class FixOptions:
     max_faces: int = DEFAULT_MAX_FACES
     spec: object | None = None  # urdfinertia.link.spec.Spec, when given
     strict: bool = False
+    #: leave inertials the description asks its simulator to compute (SDF auto="true")
+    keep_auto: bool = False
 
     def __post_init__(self) -> None:
         if self.geometry not in GEOMETRY_MODES:

@@ -1,0 +1,41 @@
+"""SDFormat: models (and worlds holding models) read into the robot model; inertials spliced.
+
+Registers the ``sdf`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` (root
+element ``<sdf>``; suffixes ``.sdf`` and ``.world``) when imported. :mod:`.poses` parses
+poses and resolves ``relative_to`` frames, :mod:`.read` reads links, geometry and
+inertials, :mod:`.write` splices new inertials into the document's own bytes.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from urdfinertia.descriptions.formats import DescriptionFormat, NewInertials, register_format
+
+if TYPE_CHECKING:
+    from urdfinertia.descriptions.model import Robot
+
+
+def _read(data: bytes, path: Path) -> Robot:
+    from urdfinertia.descriptions.sdf.read import robot_from_bytes
+
+    return robot_from_bytes(data, path)
+
+
+def _read_lenient(data: bytes, path: Path) -> Robot:
+    from urdfinertia.descriptions.sdf.read import robot_from_bytes
+
+    return robot_from_bytes(data, path, lenient=True)
+
+
+def _patch(data: bytes, new: NewInertials) -> bytes:
+    from urdfinertia.descriptions.sdf.write import patch_inertials
+
+    return patch_inertials(data, new)
+
+
+register_format(DescriptionFormat(
+    name="sdf", roots=("sdf",), suffixes=(".sdf", ".world"),
+    read=_read, read_lenient=_read_lenient, patch=_patch,
+))

@@ -1,0 +1,231 @@
+"""Write new inertials into an SDFormat document, leaving every other byte alone.
+
+As for URDF (:mod:`urdfinertia.descriptions.urdf.write`), the output is made by splicing
+the original bytes: a scanner finds the byte spans of every element (comments, CDATA and
+declarations skipped), and inside each link's ``<inertial>`` only ``<pose>``, ``<mass>``
+and ``<inertia>`` are replaced; other children (``<density>``, ``<fluid_added_mass>``,
+comments) stay where they are. ``auto="true"`` is removed from the ``<inertial>`` start tag,
+since Gazebo ignores explicit values while it is set. The written ``<pose>`` is the centre
+of mass in the link frame with no rotation and no ``relative_to`` (the inertial pose is
+defined relative to the link; the tensor is written along the link's axes). A link without
+an ``<inertial>`` gets one as its first child, indented like its siblings.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from urdfinertia.descriptions.urdf.write import (
+    _NAME_ATTR,
+    _TOKEN,
+    _attribute_text,
+    _line_indent,
+    _skip_declaration,
+    clean,
+    format_float,
+)
+from urdfinertia.errors import UrdfError
+from urdfinertia.inertia.massprops import MassProperties
+
+_AUTO_ATTR = re.compile(rb"\s+auto\s*=\s*(?:\"[^\"]*\"|'[^']*')")
+_REPLACED = (b"pose", b"mass", b"inertia")
+
+
+@dataclass(eq=False)
+class _Node:
+    """One element's byte spans: ``<tag ...>`` is [lt, start_end), the element [lt, end)."""
+
+    tag: bytes
+    lt: int
+    start_end: int
+    attrs: bytes
+    self_closing: bool
+    parent: _Node | None
+    end: int = -1
+    children: list[_Node] = field(default_factory=list)
+
+    def name(self) -> str:
+        m = _NAME_ATTR.search(self.attrs)
+        raw = (m.group(1) if m.group(1) is not None else m.group(2)) if m else b""
+        return _attribute_text(raw)
+
+    def kids(self, tag: bytes) -> list[_Node]:
+        return [c for c in self.children if c.tag == tag]
+
+
+def _local(tag: bytes) -> bytes:
+    return tag.rpartition(b":")[2] if b":" in tag else tag
+
+
+def scan_elements(data: bytes) -> _Node:
+    """The document's element tree with byte spans (a root node holding the top element)."""
+    top = _Node(b"", 0, 0, b"", False, None)
+    cur = top
+    pos, n = 0, len(data)
+    while True:
+        m = _TOKEN.search(data, pos)
+        if m is None:
+            break
+        lt = m.start()
+        comment, cdata, pi, declaration, closing, name, attrs, selfclose = m.groups()
+        if name is None:
+            if comment:
+                end = data.find(b"-->", lt + 4)
+                pos = n if end < 0 else end + 3
+            elif cdata:
+                end = data.find(b"]]>", lt)
+                pos = n if end < 0 else end + 3
+            elif pi:
+                end = data.find(b"?>", lt)
+                pos = n if end < 0 else end + 2
+            elif declaration:
+                pos = _skip_declaration(data, lt)
+            else:
+                raise UrdfError(f"cannot locate tag at byte {lt}")
+            continue
+        pos = m.end()
+        if closing:
+            if cur.parent is not None and cur.tag == name:
+                cur.end = pos
+                cur = cur.parent
+            continue
+        node = _Node(name, lt, pos, attrs or b"", bool(selfclose), cur)
+        cur.children.append(node)
+        if selfclose:
+            node.end = pos
+        else:
+            cur = node
+    return top
+
+
+def link_nodes(data: bytes) -> dict[str, _Node]:
+    """Every ``<model>``'s ``<link>`` by the name :mod:`.read` gives it."""
+    top = scan_elements(data)
+    roots = [c for c in top.children if _local(c.tag) == b"sdf"]
+    models: list[_Node] = []
+    for root in roots:
+        for el in root.children:
+            if el.tag == b"model":
+                models.append(el)
+            elif el.tag == b"world":
+                models.extend(el.kids(b"model"))
+    found: dict[str, _Node] = {}
+    several = len(models) > 1
+
+    def walk(model: _Node, prefix: str) -> None:
+        for el in model.children:
+            if el.tag == b"link":
+                found.setdefault(prefix + el.name(), el)
+            elif el.tag == b"model":
+                walk(el, f"{prefix}{el.name()}::")
+
+    for model in models:
+        walk(model, f"{model.name()}::" if several else "")
+    return found
+
+
+def _step(data: bytes, outer: bytes, node: _Node) -> bytes:
+    for child in node.children:
+        indent = _line_indent(data, child.lt)
+        if len(indent) > len(outer) and indent.startswith(outer):
+            return indent[len(outer):]
+    return b"  "
+
+
+def inertial_lines(props: MassProperties, size: float, step: bytes) -> list[bytes]:
+    """``<pose>``, ``<mass>`` and ``<inertia>`` lines, relative indents included."""
+    com, i = clean(props, size)
+    f = format_float
+    s = step.decode()
+    lines = [f"<pose>{f(com[0])} {f(com[1])} {f(com[2])} 0 0 0</pose>",
+             f"<mass>{f(props.mass)}</mass>", "<inertia>"]
+    for key, value in (("ixx", i[0, 0]), ("ixy", i[0, 1]), ("ixz", i[0, 2]),
+                       ("iyy", i[1, 1]), ("iyz", i[1, 2]), ("izz", i[2, 2])):
+        lines.append(f"{s}<{key}>{f(value)}</{key}>")
+    lines.append("</inertia>")
+    return [line.encode() for line in lines]
+
+
+def _removal(data: bytes, node: _Node) -> tuple[int, int]:
+    """Span of a child element, with its own line's indent and line break when alone."""
+    indent = _line_indent(data, node.lt)
+    start = node.lt - len(indent)
+    line_start = data.rfind(b"\n", 0, node.lt) + 1
+    if start == line_start and line_start > 0:
+        start = line_start - 1
+        if start > 0 and data[start - 1:start] == b"\r":
+            start -= 1
+    return start, node.end
+
+
+def _edits_for(data: bytes, link: _Node, props: MassProperties, size: float,
+               newline: bytes) -> list[tuple[int, int, bytes]]:
+    link_indent = _line_indent(data, link.lt)
+    step = _step(data, link_indent, link)
+    inertials = link.kids(b"inertial")
+    if link.self_closing:
+        slash = data.rfind(b"/", 0, link.start_end)
+        indent = link_indent + step
+        body = _whole(props, size, indent, step, newline)
+        return [(slash, link.start_end, b">" + newline + indent + body + newline
+                 + link_indent + b"</link>")]
+    if not inertials:
+        first = link.children[0] if link.children else None
+        indent = _line_indent(data, first.lt) if first is not None else b""
+        if not indent:
+            indent = link_indent + step
+        return [(link.start_end, link.start_end,
+                 newline + indent + _whole(props, size, indent, step, newline))]
+    inertial = inertials[0]
+    indent = _line_indent(data, inertial.lt)
+    if inertial.self_closing or not inertial.end > 0:
+        return [(inertial.lt, inertial.end, _whole(props, size, indent, step, newline))]
+    edits = []
+    start_tag = data[inertial.lt:inertial.start_end]
+    cleaned = _AUTO_ATTR.sub(b"", start_tag)
+    inner = indent + step
+    for child in inertial.children:
+        if child.tag in _REPLACED:
+            child_indent = _line_indent(data, child.lt)
+            if child_indent:
+                inner = child_indent
+            break
+    for child in inertial.children:
+        if child.tag in _REPLACED:
+            start, end = _removal(data, child)
+            edits.append((start, end, b""))
+    text = b"".join(newline + inner + line for line in inertial_lines(props, size, step))
+    edits.append((inertial.lt, inertial.start_end, cleaned + text))
+    return edits
+
+
+def _whole(props: MassProperties, size: float, indent: bytes, step: bytes,
+           newline: bytes) -> bytes:
+    """A complete ``<inertial>`` element; its first line carries no indent."""
+    lines = [b"<inertial>", *(step + line for line in inertial_lines(props, size, step)),
+             b"</inertial>"]
+    return (newline + indent).join(lines)
+
+
+def patch_inertials(data: bytes, new: Mapping[str, tuple[MassProperties, float]]) -> bytes:
+    """Replace (or add) the inertial of each link named in ``new`` (names as :mod:`.read`)."""
+    links = link_nodes(data)
+    newline = b"\r\n" if b"\r\n" in data else b"\n"
+    edits: list[tuple[int, int, bytes]] = []
+    for name, (props, size) in new.items():
+        link = links.get(name)
+        if link is None:
+            raise UrdfError(f"cannot locate <link name='{name}'> in the text", link=name)
+        edits.extend(_edits_for(data, link, props, size, newline))
+    out = bytearray()
+    pos = 0
+    for start, end, text in sorted(edits, key=lambda e: (e[0], e[1])):
+        if start < pos:
+            raise UrdfError(f"overlapping edits at byte {start}")
+        out += data[pos:start]
+        out += text
+        pos = end
+    out += data[pos:]
+    return bytes(out)
