@@ -56,11 +56,6 @@ class FixResult:
     output: bytes
 
     @property
-    def failed(self) -> tuple[LinkResult, ...]:
-        """Links that could not be computed and were left as written."""
-        return tuple(r for r in self.links if r.status == "failed")
-
-    @property
     def changed(self) -> bool:
         return self.output != self.original
 
