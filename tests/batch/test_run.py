@@ -350,7 +350,7 @@ def test_a_warm_run_writes_every_output_and_keeps_the_order(tree, tmp_path):
 
 
 def test_urdf_files_finds_what_rglob_finds(tmp_path):
-    from urdfinertia.batch.inputs import urdf_files
+    from urdfinertia.batch.inputs import description_files
 
     (tmp_path / "a" / "b").mkdir(parents=True)
     (tmp_path / "other").mkdir()
@@ -362,7 +362,7 @@ def test_urdf_files_finds_what_rglob_finds(tmp_path):
     (tmp_path / "a" / "loop").symlink_to(tmp_path / "a")  # not followed
     expected = sorted(p for p in tmp_path.rglob("*")
                       if p.suffix.lower() == ".urdf" and p.is_file())
-    assert sorted(urdf_files(tmp_path)) == expected
+    assert sorted(description_files(tmp_path)) == expected
     assert len(expected) == 5
 
 
@@ -398,3 +398,17 @@ def test_links_left_for_the_environment_are_not_cached(tree, tmp_path, monkeypat
     report = run_batch(collect_jobs([tree], tmp_path / "two"), FixOptions(),
                        BatchSettings(cache_dir=cache))
     assert report.file_hits == 1 and not any(o.left for o in report.outcomes)
+
+
+def test_folders_give_sdf_world_and_mjcf_but_not_other_xml(tmp_path):
+    from urdfinertia.batch.inputs import collect_jobs
+
+    files = {"r.urdf": "<robot/>", "m.sdf": "<sdf/>", "w.WORLD": "<sdf/>",
+             "arm.xml": "<?xml version='1.0'?>\n<!-- x -->\n<mujoco model='a'/>",
+             "package.xml": "<package/>", "launch.xml": "<launch/>",
+             "macro.urdf.xacro": "<robot/>"}
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    jobs = collect_jobs([tmp_path], tmp_path / "out")
+    assert sorted(j.source.name for j in jobs) == ["arm.xml", "m.sdf", "r.urdf", "w.WORLD"]
+    assert {j.output.name for j in jobs} == {"arm.xml", "m.sdf", "r.urdf", "w.WORLD"}

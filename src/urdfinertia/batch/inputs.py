@@ -1,4 +1,4 @@
-"""The inputs of a batch run: URDF files and folders, and where each result goes."""
+"""The inputs of a batch run: description files and folders, and where each result goes."""
 
 from __future__ import annotations
 
@@ -19,8 +19,16 @@ class FileJob:
     output: Path | None = None
 
 
+#: Suffixes a folder is searched for (any case). ``.xml`` files count only when their root
+#: element is a registered format's (MJCF's ``<mujoco>``): a folder holds ``package.xml``
+#: and launch files too. xacro sources are taken only when named: a package's many macro
+#: files are not robots.
+FOLDER_SUFFIXES = (".urdf", ".sdf", ".world")
+
+
 def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJob]:
-    """The URDFs named by ``inputs`` (files, and folders searched recursively for *.urdf).
+    """The descriptions named by ``inputs`` (files, and folders searched recursively for
+    ``*.urdf``, ``*.sdf``, ``*.world`` and MJCF ``*.xml``).
 
     A file goes to ``output_dir/<name>``, a folder's files to ``output_dir/<path relative
     to the folder>``. Raises when an input does not exist, nothing is found, two inputs
@@ -30,14 +38,15 @@ def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJo
     for item in inputs:
         item = Path(item)
         if item.is_dir():
-            files = sorted(urdf_files(item))
+            files = sorted(description_files(item))
             found.extend((p, p.relative_to(item)) for p in files)
         elif item.is_file():
             found.append((item, Path(item.name)))
         else:
             raise UrdfError("no such file or folder", file=item)
     if not found:
-        raise UrdfError("no .urdf files found in " + ", ".join(map(str, inputs)))
+        raise UrdfError("no .urdf, .sdf, .world or MJCF .xml files found in "
+                        + ", ".join(map(str, inputs)))
     jobs: list[FileJob] = []
     seen: set[Path] = set()
     targets: dict[Path, Path] = {}
@@ -60,8 +69,9 @@ def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJo
     return jobs
 
 
-def urdf_files(folder: Path) -> list[Path]:
-    """Files under ``folder`` whose suffix is ``.urdf`` (any case), unordered.
+def description_files(folder: Path) -> list[Path]:
+    """Description files under ``folder`` (:data:`FOLDER_SUFFIXES`, MJCF ``.xml``),
+    unordered.
 
     What ``folder.rglob("*")`` filtered on ``suffix`` and ``is_file()`` finds (symbolic
     links to folders are not followed, links to files are kept), with ``os.walk``: pathlib
@@ -71,8 +81,21 @@ def urdf_files(folder: Path) -> list[Path]:
     for root, _, names in os.walk(folder):
         for name in names:
             dot = name.rfind(".")
-            if 0 < dot < len(name) - 1 and name[dot:].lower() == ".urdf":
+            suffix = name[dot:].lower() if 0 < dot < len(name) - 1 else ""
+            if suffix in FOLDER_SUFFIXES or (suffix == ".xml" and _is_mjcf(Path(root, name))):
                 path = Path(root, name)
                 if path.is_file():
                     out.append(path)
     return out
+
+
+def _is_mjcf(path: Path) -> bool:
+    """An ``.xml`` file whose root element is ``<mujoco>`` (first 64 KiB read)."""
+    from urdfinertia.descriptions.formats import root_name
+
+    try:
+        with path.open("rb") as fh:
+            head = fh.read(1 << 16)
+    except OSError:
+        return False
+    return root_name(head) == "mujoco"
