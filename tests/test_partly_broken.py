@@ -132,6 +132,8 @@ DOCUMENT = [
     ("xml version 0.0", lambda t: t.replace('version="1.0"', 'version="0.0"'), "version"),
     ("declaration after whitespace", lambda t: "\n  " + t, "not at the very start"),
     ("declaration after a BOM and newline", lambda t: "\ufeff\n" + t, "not at the very start"),
+    ("declaration after a licence comment", lambda t: "<!-- licence\n -->\n" + t,
+     "not at the very start"),
     ("undeclared prefixes", lambda t: t.replace(
         '<limit lower', '<drake:limit drake:x="1" lower').replace(
         "</robot>", '<drake:collision_filter_group drake:name="g"/>\n</robot>'),
