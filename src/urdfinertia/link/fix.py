@@ -1,4 +1,6 @@
-"""The ``fix`` job: recompute every link's inertial from its geometry and patch the file.
+"""The ``fix`` job: recompute the links' inertials from their geometry and patch the file.
+
+Which links, and which of their values are kept, is :mod:`urdfinertia.link.policy`'s rule.
 
 Data flow: read (:mod:`urdf_read`) -> parts (:mod:`parts`) -> assemble (:mod:`assemble`)
 -> write (:mod:`urdf_write`). Nothing here touches the file system except through
@@ -11,7 +13,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, existing_mass, select_geometry
+from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
 from urdfinertia.link.results import FixResult, LinkResult
 
 if TYPE_CHECKING:
@@ -25,19 +27,22 @@ if TYPE_CHECKING:
 
 
 def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir: Path,
-                 ) -> LinkResult:
-    """Recompute one link, or report why it stays untouched."""
+                 *, trust_mass: bool = True) -> LinkResult:
+    """Recompute one link, or report why it stays untouched.
+
+    ``trust_mass=False``: the written mass is not kept even with ``options.mass == "keep"``
+    (the policy found it implausible, :mod:`urdfinertia.link.policy`).
+    """
     from urdfinertia.link.assemble import assemble
+    from urdfinertia.link.mass import link_mass_source
     from urdfinertia.link.parts import geometry_parts
 
     spec = options.spec
     link_spec = spec.link(link.name) if spec is not None else None
     if link_spec is not None:
-        parts, pinned = link_spec.parts(link, meshes, urdf_dir)
+        parts, _ = link_spec.parts(link, meshes, urdf_dir)
         role = "spec"
-        reason = "pinned"
-        if pinned is None and options.mass == "keep" and link_spec.uses_default_mass():
-            pinned, reason = existing_mass(link), "kept"
+        source = link_spec.mass_source(link, options, trust_mass=trust_mass)
     else:
         role, refs = select_geometry(link, options.geometry)
         if not refs:
@@ -46,12 +51,10 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshLibrary, urdf_dir:
         parts = []
         for ref in refs:
             parts.extend(geometry_parts(ref, meshes, urdf_dir))
-        pinned = existing_mass(link) if options.mass == "keep" else None
-        reason = "kept"
+        source = link_mass_source(link, options, trust_mass=trust_mass)
     try:
         try:
-            result = assemble(parts, density=options.density, pinned_mass=pinned,
-                              pinned_reason=reason)
+            result = assemble(parts, source)
         except ValueError as exc:  # e.g. an overflow from an absurd density or mass
             raise UrdfInertiaError(f"mass properties cannot be computed: {exc}") from None
     except UrdfInertiaError as exc:
@@ -101,10 +104,15 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
+    # which links are recomputed, and what of them is kept: link/policy.py (issue 14)
+    from urdfinertia.link.apply import apply_decision
+    from urdfinertia.link.policy import plan_robot
+
+    plan = plan_robot(robot, options, meshes, urdf_dir)
     results = []
     for link in robot.links:
         try:
-            results.append(compute_link(link, options, meshes, urdf_dir))
+            results.append(apply_decision(link, plan[link.name], options, meshes, urdf_dir))
         except UrdfInertiaError as exc:
             raise exc.with_context(file=path, link=link.name) from None
     new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}

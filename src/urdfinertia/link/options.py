@@ -20,6 +20,9 @@ if TYPE_CHECKING:
 
 GEOMETRY_MODES = ("auto", "collision", "visual")
 MASS_MODES = ("keep", "density")
+#: Which links ``fix`` recomputes (:mod:`urdfinertia.link.policy`): "needed" (the links
+#: whose inertial is wrong), "all" (every link with geometry), "links" (those named).
+RECOMPUTE_MODES = ("needed", "all", "links")
 #: Densities outside this range (kg/m^3) suggest a unit slip or a placeholder mass.
 PLAUSIBLE_DENSITY = (50.0, 25000.0)
 
@@ -32,6 +35,8 @@ class FixOptions:
     mass : "keep" (keep a link's existing positive mass, geometry gives CoM and tensor)
         or "density" (mass = density x volume).
     density : kg/m^3 used when a link has no mass or with ``mass="density"``.
+    recompute : which links are recomputed (:data:`RECOMPUTE_MODES`); ``links`` names them
+        for "links". Links named in ``spec`` are always recomputed.
     """
 
     geometry: str = "auto"
@@ -40,12 +45,18 @@ class FixOptions:
     package_dirs: Mapping[str, Path] = field(default_factory=dict)
     max_faces: int = DEFAULT_MAX_FACES
     spec: object | None = None  # urdfinertia.link.spec.Spec, when given
+    recompute: str = "needed"
+    links: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.geometry not in GEOMETRY_MODES:
             raise ValueError(f"geometry must be one of {GEOMETRY_MODES}")
         if self.mass not in MASS_MODES:
             raise ValueError(f"mass must be one of {MASS_MODES}")
+        if self.recompute not in RECOMPUTE_MODES:
+            raise ValueError(f"recompute must be one of {RECOMPUTE_MODES}")
+        if (self.recompute == "links") != bool(self.links):
+            raise ValueError('links are named with recompute="links", and only then')
         if not (math.isfinite(self.density) and self.density > 0):
             raise ValueError("density must be positive")
 
@@ -57,11 +68,3 @@ def select_geometry(link: Link, mode: str) -> tuple[str, tuple[GeometryRef, ...]
     if mode == "visual" or (mode == "auto" and link.visuals):
         return "visual", link.visuals
     return "none", ()
-
-
-def existing_mass(link: Link) -> float | None:
-    if link.inertial is not None and link.inertial.mass > 0:
-        return link.inertial.mass
-    return None
-
-

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from urdfinertia.descriptions.model import Inertial, Robot
     from urdfinertia.link.assemble import Assembly
+    from urdfinertia.link.errorbar import ErrorBar
 
 
 @dataclass(frozen=True, eq=False)
@@ -16,11 +17,18 @@ class LinkResult:
     """What happened to one link."""
 
     name: str
-    status: str  # "recomputed" | "untouched"
-    geometry: str  # "collision" | "visual" | "spec" | "none"
+    status: str  # "recomputed" | "repaired" | "kept" | "untouched"
+    geometry: str  # "collision" | "visual" | "spec" | "none" | "as written"
     assembly: Assembly | None
     previous: Inertial | None
     warnings: tuple[str, ...] = ()
+    #: the policy's decision in words ("kept: plausible", "recomputed: inertia-zero", ...)
+    decision: str = ""
+    #: which of "mass", "com", "tensor" were kept as written and which derived
+    kept: tuple[str, ...] = ()
+    derived: tuple[str, ...] = ()
+    #: expected error of a tensor derived from homogeneous geometry (None otherwise)
+    error_bar: ErrorBar | None = None
 
     @property
     def size(self) -> float:

@@ -32,7 +32,7 @@ def link_dict(r: LinkResult) -> dict[str, Any]:
                            "inertia_in_link_axes": np.asarray(prev.tensor_in_link()).tolist()}
     if r.assembly is not None:
         out["result"] = mass_properties_dict(r.assembly.total)
-        out["mass_source"] = r.assembly.mass_source
+        out["mass_source"] = str(r.assembly.mass_source)
         out["parts"] = [
             {"name": pr.part.name, "element": pr.part.element, "method": pr.part.method,
              "volume": pr.part.volume, "density": pr.density, "cavity": pr.part.cavity,

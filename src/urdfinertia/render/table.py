@@ -39,7 +39,7 @@ def fix_table(results: Sequence[LinkResult], title: str) -> Table:
             _vec(t.com, r.size),  # round-off below 1e-12 x size shown as 0
             " ".join(_g(m) for m in moments),
             geo,
-            "; ".join((r.assembly.mass_source, *r.warnings)),
+            "; ".join((str(r.assembly.mass_source), *r.warnings)),
         )
     return table
 
