@@ -58,11 +58,24 @@ def run(args: argparse.Namespace) -> int:
             shown = [f for f in findings if args.show_info or f.severity != "info"]
             if shown:
                 console.print(findings_table(shown, f"{path}: {robot.name}"))
+        if meshes is not None:  # what fix would do, by the same rules (issue 14)
+            _show_plan(robot, meshes, options, report[-1], console, args.quiet)
         console.print(summary_line(str(path), len(robot.links), findings))
     if args.json is not None:
         doc = {"exit_code": code, "strict": args.strict, "files": report}
         atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
     return code
+
+
+def _show_plan(robot, meshes: MeshLibrary, options: FixOptions, entry: dict,
+               console: Console, quiet: bool) -> None:
+    from urdfinertia.link.policy import plan_robot
+    from urdfinertia.render.decisions import plan_dict, plan_table
+
+    plan = plan_robot(robot, options, meshes)
+    entry["fix_plan"] = plan_dict(plan)
+    if not quiet:
+        console.print(plan_table(plan, f"urdf-inertia fix (default) on {robot.name}"))
 
 
 def severity_counts(findings: list[Finding]) -> dict[str, int]:

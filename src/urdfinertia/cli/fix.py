@@ -15,7 +15,11 @@ from urdfinertia.cli.batch import (
     run_many,
     single_file_library,
 )
-from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args
+from urdfinertia.cli.options import (
+    add_common_geometry_arguments,
+    add_policy_arguments,
+    options_from_args,
+)
 from urdfinertia.errors import OutputError, UrdfInertiaError
 from urdfinertia.link.fix import fix_file
 
@@ -34,6 +38,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     out.add_argument("--in-place", action="store_true",
                      help="overwrite the input (a copy is kept as URDF.bak)")
     add_common_geometry_arguments(p)
+    add_policy_arguments(p)
     p.add_argument("--json", type=Path, metavar="PATH", help="write per-link results as JSON")
     p.add_argument("-q", "--quiet", action="store_true", help="no table on the terminal")
     p.add_argument("--repair-only", action="store_true",
@@ -80,6 +85,9 @@ def run(args: argparse.Namespace) -> int:
 
         console = Console(stderr=args.output is None and not args.in_place, width=160)
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
+    from urdfinertia.render.decisions import print_mass_summary  # issue 14: mass never silent
+
+    print_mass_summary(result, Console(stderr=True, width=160), quiet=args.quiet)
     if args.output is None and not args.in_place:
         sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
     return 0

@@ -20,7 +20,7 @@ recomputed. ``check``, ``compare`` and ``report`` print the same :class:`Decisio
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -97,6 +97,11 @@ class Decision:
             return self.why  # already says what happens ("... left as it is")
         past = {"recompute": "recomputed", "keep": "kept", "repair": "repaired"}[self.action]
         return f"{past if done else 'would be ' + past}: {self.why}"
+
+
+def every_link(options: FixOptions) -> FixOptions:
+    """``options`` asking for every link with geometry (what ``compare`` shows as B)."""
+    return replace(options, recompute="all", links=())
 
 
 def plan_robot(robot: Robot, options: FixOptions, meshes: MeshLibrary,

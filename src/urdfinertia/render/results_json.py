@@ -7,7 +7,9 @@ from typing import Any
 import numpy as np
 
 from urdfinertia.inertia.massprops import MassProperties
+from urdfinertia.link.apply import mass_change
 from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.render.decisions import decision_dict
 
 
 def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:
@@ -25,7 +27,7 @@ def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:
 
 def link_dict(r: LinkResult) -> dict[str, Any]:
     out: dict[str, Any] = {"link": r.name, "status": r.status, "geometry": r.geometry,
-                           "warnings": list(r.warnings)}
+                           "warnings": list(r.warnings), **decision_dict(r)}
     if r.previous is not None:
         prev = r.previous
         out["previous"] = {"mass": prev.mass, "com": list(prev.origin.xyz),
@@ -43,9 +45,12 @@ def link_dict(r: LinkResult) -> dict[str, Any]:
 
 
 def fix_result_dict(result: FixResult) -> dict[str, Any]:
+    change = mass_change(result)
     return {
         "file": str(result.path),
         "robot": result.robot.name,
         "changed": result.changed,
+        "total_mass": {"before": change.before, "after": change.after,
+                       "warning": change.warn},
         "links": [link_dict(r) for r in result.links],
     }

@@ -10,6 +10,7 @@ from rich.table import Table
 
 from urdfinertia.analysis.explain import Breakdown, Contribution, link_breakdown
 from urdfinertia.link.results import LinkResult
+from urdfinertia.render.decisions import link_notes
 
 
 def _g(x: float) -> str:
@@ -22,7 +23,7 @@ def fix_table(results: Sequence[LinkResult], title: str) -> Table:
         table.add_column(col, overflow="fold")
     for r in results:
         if r.assembly is None:
-            table.add_row(r.name, "-", "-", "-", r.geometry, "; ".join(r.warnings))
+            table.add_row(r.name, "-", "-", "-", r.geometry, "; ".join(link_notes(r)))
             continue
         t = r.assembly.total
         moments, _ = t.principal()
@@ -39,7 +40,7 @@ def fix_table(results: Sequence[LinkResult], title: str) -> Table:
             _vec(t.com, r.size),  # round-off below 1e-12 x size shown as 0
             " ".join(_g(m) for m in moments),
             geo,
-            "; ".join((str(r.assembly.mass_source), *r.warnings)),
+            "; ".join(link_notes(r)),  # decision, kept/derived, mass source, error bar
         )
     return table
 
