@@ -85,12 +85,18 @@ def run(args: argparse.Namespace) -> int:
 
         console = Console(stderr=args.output is None and not args.in_place, width=160)
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
-    from urdfinertia.render.decisions import print_mass_summary  # issue 14: mass never silent
-
-    print_mass_summary(result, Console(stderr=True, width=160), quiet=args.quiet)
+    _mass_summary(result, args.quiet)  # issue 14: the robot's mass never changes silently
     if args.output is None and not args.in_place:
         sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
     return 0
+
+
+def _mass_summary(result, quiet: bool) -> None:
+    from rich.console import Console
+
+    from urdfinertia.render.decisions import print_mass_summary
+
+    print_mass_summary(result, Console(stderr=True, width=160), quiet=quiet)
 
 
 __all__ = ["add_arguments", "run", "UrdfInertiaError"]
