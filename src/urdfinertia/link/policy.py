@@ -170,7 +170,7 @@ def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | N
     why = ", ".join(triggers) + note
     _, refs = select_geometry(link, options.geometry)
     if not refs:
-        if codes & INVALID_CODES:
+        if codes & (INVALID_CODES | {"missing-inertial"}):
             return Decision(name, "repair", f"{why}; no geometry to recompute from")
         return Decision(name, "leave", f"{why}; no geometry to recompute from: left as it is")
     keep_mass = not (codes & MASS_DISTRUST)
