@@ -237,7 +237,8 @@ def test_warm_results_follow_edited_meshes_and_options(tree, tmp_path):
     assert report.file_hits == 1  # robot_c has no mesh; a and b use box.stl
     _, fresh = run("reference", use_cache=False)
     assert edited == fresh
-    report, heavier = run("other density", FixOptions(recompute="all", mass="density", density=2000.0))
+    report, heavier = run("other density",
+                          FixOptions(recompute="all", mass="density", density=2000.0))
     assert report.file_hits == 0
     assert heavier != fresh
 
@@ -269,7 +270,8 @@ def test_whole_file_results_do_not_depend_on_the_working_folder(tree, tmp_path, 
     run_batch(collect_jobs([Path("pkg_a")], tmp_path / "one"), FixOptions(recompute="all"),
               BatchSettings(cache_dir=cache))
     monkeypatch.chdir(tmp_path)
-    report = run_batch(collect_jobs([tree / "pkg_a"], tmp_path / "two"), FixOptions(recompute="all"),
+    report = run_batch(collect_jobs([tree / "pkg_a"], tmp_path / "two"),
+                       FixOptions(recompute="all"),
                        BatchSettings(cache_dir=cache))
     assert report.file_hits == 2
     assert outputs(tmp_path / "one") == outputs(tmp_path / "two")
@@ -301,7 +303,8 @@ def test_a_cached_error_names_the_source_as_spelled(broken, tmp_path, monkeypatc
     monkeypatch.chdir(broken)
     first = run_batch(collect_jobs([Path("pkg_b")], tmp_path / "one"), FixOptions(recompute="all"),
                       BatchSettings(cache_dir=cache))
-    second = run_batch(collect_jobs([broken / "pkg_b"], tmp_path / "two"), FixOptions(recompute="all"),
+    second = run_batch(collect_jobs([broken / "pkg_b"], tmp_path / "two"),
+                       FixOptions(recompute="all"),
                        BatchSettings(cache_dir=cache))
     errors = [sorted(o.error for o in r.failed) for r in (first, second)]
     assert all(e.startswith("pkg_b") for e in errors[0])
@@ -363,6 +366,7 @@ def test_an_altered_error_entry_is_recomputed(broken, tmp_path):
     data = entry.read_bytes()
     at = data.rindex(b"missing.stl")  # in the message (the body), not in the header
     entry.write_bytes(data[:at] + b"ELSEWHERE!!" + data[at + 11:])  # same length
-    report = run_batch([FileJob(source)], FixOptions(recompute="all"), BatchSettings(cache_dir=cache))
+    report = run_batch([FileJob(source)], FixOptions(recompute="all"),
+                       BatchSettings(cache_dir=cache))
     assert report.file_hits == 0
     assert "missing.stl" in report.outcomes[0].error

@@ -79,7 +79,8 @@ def test_mass_keep_distributes_existing_mass(tmp_path):
     assert keep.mass == 7.5
     np.testing.assert_allclose(keep.com, [0, 0, 0.2])
     np.testing.assert_allclose(keep.inertia, expected.inertia, rtol=1e-12)
-    dens = only(fix_file(path, FixOptions(recompute="all", mass="density", density=2700.0)), "l").assembly.total
+    options = FixOptions(recompute="all", mass="density", density=2700.0)
+    dens = only(fix_file(path, options), "l").assembly.total
     assert dens.mass == pytest.approx(2700.0 * np.pi * 0.05**2 * 0.4)
 
 

@@ -20,7 +20,8 @@ BOX_I = primitives.box(SIZE, 1.0).inertia / primitives.box(SIZE, 1.0).mass  # pe
 
 
 def inertial(mass: float | str = 2.0, com: str = "0 0 0", diag=None, off=(0, 0, 0)) -> str:
-    d = diag if diag is not None else tuple(repr(float(mass) * float(BOX_I[k, k])) for k in range(3))
+    d = diag if diag is not None else tuple(repr(float(mass) * float(BOX_I[k, k]))
+                                            for k in range(3))
     return (f'<inertial><origin xyz="{com}" rpy="0 0 0"/><mass value="{mass}"/>'
             f'<inertia ixx="{d[0]}" ixy="{off[0]}" ixz="{off[1]}" iyy="{d[1]}" iyz="{off[2]}" '
             f'izz="{d[2]}"/></inertial>')
