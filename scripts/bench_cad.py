@@ -157,6 +157,7 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--max-files", type=int, default=0, help="per package (0: all)")
     ap.add_argument("--calibrate", action="store_true")
+    ap.add_argument("--packages", nargs="*", default=None, help="only these packages")
     args = ap.parse_args()
     found = packages()
     if not found:
@@ -167,6 +168,10 @@ def main() -> int:
     changed = plausible = 0
     skipped: dict[str, int] = defaultdict(int)
     for package, files in found.items():
+        if args.packages is not None and package not in args.packages:
+            continue
+        print(f"{package}: {len(files[:args.max_files or None])} file(s)", file=sys.stderr,
+              flush=True)
         for path in files[:args.max_files or None]:
             meshes = MeshLibrary(package_dirs(package, path))
             try:
@@ -177,6 +182,9 @@ def main() -> int:
             samples += got
             changed += c
             plausible += p
+        mine = [x for x in samples if x.package == package]
+        if mine:
+            print("  " + line(package, mine), file=sys.stderr, flush=True)
     print(f"CAD values in place: the default fix changed {changed} of {plausible} plausible "
           "links (target 0)")
     print(f"files skipped (unreadable, missing meshes): {dict(skipped)}")
