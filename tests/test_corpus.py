@@ -62,3 +62,45 @@ def test_whole_collection(erd_dir, tmp_path):
           f"as they were (meshes not shipped): {partial}")
     assert fixed == len(files)
     assert set(partial) == {"romeo_laas_small"}
+
+
+# --- the default policy on real robots (issue 14) -------------------------------------
+def test_default_fix_keeps_clean_robots_and_total_masses(erd_dir):
+    from urdfinertia.analysis.check import check_robot
+    from urdfinertia.descriptions.formats import read_description
+    from urdfinertia.link.apply import mass_change
+
+    meshes = MeshLibrary({"example-robot-data": erd_dir})
+    clean = 0
+    for path in corpus(erd_dir):
+        try:
+            result = fix_file(path, FixOptions(), meshes)
+        except MeshError:
+            continue  # a mesh the package does not ship (see test_whole_collection)
+        robot, _ = read_description(path, lenient=True)
+        found = check_robot(robot, meshes=meshes)
+        if not any(f.severity in ("error", "warning") for f in found):
+            assert result.output == path.read_bytes(), path
+            clean += 1
+        if path.stem in ("anymal", "tiago_pro", "a1", "laikago"):
+            change = mass_change(result)
+            assert change.after == pytest.approx(change.before, rel=1e-12), (path, change)
+    assert clean >= 10
+
+
+@pytest.mark.parametrize("rel", ["icub_description/robots/icub.urdf",
+                                 "icub_description/robots/icub_reduced.urdf",
+                                 "human_description/robots/human.urdf"])
+def test_default_fix_output_loads_in_mujoco(erd_dir, rel):
+    import re
+
+    mujoco = pytest.importorskip("mujoco")
+    path = erd_dir / "robots" / rel
+    original = path.read_text()
+    # MuJoCo cannot resolve package:// meshes: geometry is dropped, only inertials matter
+    strip = re.compile(r"<visual>.*?</visual>|<collision>.*?</collision>", re.DOTALL)
+    with pytest.raises(ValueError):
+        mujoco.MjModel.from_xml_string(strip.sub("", original))
+    meshes = MeshLibrary({"example-robot-data": erd_dir})
+    output = fix_file(path, FixOptions(), meshes).output.decode()
+    mujoco.MjModel.from_xml_string(strip.sub("", output))

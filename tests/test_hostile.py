@@ -94,8 +94,8 @@ def expect_refusal(folder: Path, urdf: Path, capsys, *needles: str, code: int = 
     and security refusals are the same either way (:func:`test_refused_without_strict`)."""
     before = snapshot(folder)
     out = folder / "out.urdf"
-    rc, stdout, err = run(["fix", str(urdf), "-o", str(out), "-q", "--no-cache", "--strict",
-                           *extra], capsys)
+    rc, stdout, err = run(["fix", "--all", str(urdf), "-o", str(out), "-q", "--no-cache",
+                           "--strict", *extra], capsys)
     assert rc == code, err
     lines = err.splitlines()
     assert len(lines) == 1, err
@@ -215,7 +215,7 @@ def test_missing_urdf(workdir, capsys):
 def test_urdf_is_a_folder(workdir, capsys):
     folder = workdir / "folder.urdf"
     folder.mkdir()
-    rc, _, err = run(["fix", str(folder), "-q", "--no-cache"], capsys)
+    rc, _, err = run(["fix", "--all", str(folder), "-q", "--no-cache"], capsys)
     assert rc == 2 and len(err.splitlines()) == 1, err
 
 
@@ -486,7 +486,7 @@ def test_load_mesh_refuses_fifo_directly(tmp_path):
 def test_output_folder_missing(workdir, capsys):
     before = snapshot(workdir)
     out = workdir / "no" / "such" / "out.urdf"
-    rc, _, err = run(["fix", str(workdir / "r.urdf"), "-o", str(out), "-q", "--no-cache"],
+    rc, _, err = run(["fix", "--all", str(workdir / "r.urdf"), "-o", str(out), "-q", "--no-cache"],
                      capsys)
     assert rc == 2 and len(err.splitlines()) == 1, err
     assert "out.urdf" in err and "cannot write" in err
@@ -496,8 +496,8 @@ def test_output_folder_missing(workdir, capsys):
 def test_output_parent_is_a_file(workdir, capsys):
     (workdir / "plain").write_bytes(b"not a folder")
     before = snapshot(workdir)
-    rc, _, err = run(["fix", str(workdir / "r.urdf"), "-o", str(workdir / "plain" / "o.urdf"),
-                      "-q", "--no-cache"], capsys)
+    rc, _, err = run(["fix", "--all", str(workdir / "r.urdf"), "-o",
+                      str(workdir / "plain" / "o.urdf"), "-q", "--no-cache"], capsys)
     assert rc == 2 and len(err.splitlines()) == 1, err
     assert "o.urdf" in err and "cannot write" in err
     assert snapshot(workdir) == before
@@ -509,7 +509,7 @@ def test_output_folder_read_only(workdir, capsys):
     ro.mkdir()
     ro.chmod(0o555)
     try:
-        rc, _, err = run(["fix", str(workdir / "r.urdf"), "-o", str(ro / "o.urdf"), "-q",
+        rc, _, err = run(["fix", "--all", str(workdir / "r.urdf"), "-o", str(ro / "o.urdf"), "-q",
                           "--no-cache"], capsys)
     finally:
         ro.chmod(0o755)
@@ -528,7 +528,7 @@ def test_failed_run_keeps_existing_output(workdir, capsys):
 def test_failed_in_place_leaves_input_and_no_backup(workdir, capsys):
     urdf = with_mesh(workdir, "gone.stl")
     before = snapshot(workdir)
-    rc, _, err = run(["fix", str(urdf), "--in-place", "-q", "--no-cache", "--strict"],
+    rc, _, err = run(["fix", "--all", str(urdf), "--in-place", "-q", "--no-cache", "--strict"],
                      capsys)
     assert rc == 2 and len(err.splitlines()) == 1
     assert snapshot(workdir) == before
@@ -542,7 +542,7 @@ def test_in_place_through_symlink_writes_target(workdir, capsys):
     original = (real / "r.urdf").read_bytes()
     link = workdir / "link.urdf"
     link.symlink_to(real / "r.urdf")
-    rc, _, err = run(["fix", str(link), "--in-place", "-q", "--no-cache"], capsys)
+    rc, _, err = run(["fix", "--all", str(link), "--in-place", "-q", "--no-cache"], capsys)
     assert rc == 0, err
     assert link.is_symlink() and os.readlink(link) == str(real / "r.urdf")
     assert (real / "r.urdf").read_bytes() != original
@@ -555,7 +555,7 @@ def test_output_symlink_writes_target(workdir, capsys):
     target.write_bytes(b"old")
     out = workdir / "out.urdf"
     out.symlink_to(target)
-    rc, _, err = run(["fix", str(workdir / "r.urdf"), "-o", str(out), "-q", "--no-cache"],
+    rc, _, err = run(["fix", "--all", str(workdir / "r.urdf"), "-o", str(out), "-q", "--no-cache"],
                      capsys)
     assert rc == 0, err
     assert out.is_symlink()
@@ -565,7 +565,7 @@ def test_output_symlink_writes_target(workdir, capsys):
 def test_output_same_as_input_refused(workdir, capsys):
     urdf = workdir / "r.urdf"
     before = snapshot(workdir)
-    rc, _, err = run(["fix", str(urdf), "-o", str(urdf), "-q", "--no-cache"], capsys)
+    rc, _, err = run(["fix", "--all", str(urdf), "-o", str(urdf), "-q", "--no-cache"], capsys)
     assert rc == 2 and "use --in-place" in err
     assert snapshot(workdir) == before
 
@@ -585,7 +585,7 @@ def test_internal_error_is_one_line_exit_3(workdir, capsys, monkeypatch):
         raise ZeroDivisionError("went\nwrong")
 
     monkeypatch.setattr("urdfinertia.cli.fix.fix_file", boom)
-    rc, _, err = run(["fix", str(workdir / "r.urdf"), "-q", "--no-cache"], capsys)
+    rc, _, err = run(["fix", "--all", str(workdir / "r.urdf"), "-q", "--no-cache"], capsys)
     assert rc == 3
     assert err.splitlines() == ["urdf-inertia: internal error: ZeroDivisionError: went wrong "
                                 "(this is a bug; rerun with --debug for the traceback)"]
@@ -593,7 +593,7 @@ def test_internal_error_is_one_line_exit_3(workdir, capsys, monkeypatch):
 
 def test_debug_shows_traceback(workdir, capsys):
     urdf = with_mesh(workdir, "gone.stl")
-    rc, _, err = run(["fix", str(urdf), "-q", "--no-cache", "--debug", "--strict"], capsys)
+    rc, _, err = run(["fix", "--all", str(urdf), "-q", "--no-cache", "--debug", "--strict"], capsys)
     assert rc == 2
     assert "Traceback" in err
     assert err.splitlines()[-1].startswith("urdf-inertia: error: ")
@@ -601,7 +601,7 @@ def test_debug_shows_traceback(workdir, capsys):
 
 def test_usage_error_is_one_line(capsys):
     with pytest.raises(SystemExit) as exc:
-        cli.main(["fix", "--max-faces", "many", "x.urdf"])
+        cli.main(["fix", "--all", "--max-faces", "many", "x.urdf"])
     assert exc.value.code == 2
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and err.startswith("urdf-inertia: error: ")
@@ -613,8 +613,8 @@ def test_same_input_gives_identical_bytes(workdir, capsys):
     outputs = []
     for i in range(3):
         out = workdir / f"out{i}.urdf"
-        rc, _, err = run(["fix", str(workdir / "r.urdf"), "-o", str(out), "-q", "--no-cache"],
-                         capsys)
+        rc, _, err = run(["fix", "--all", str(workdir / "r.urdf"), "-o", str(out), "-q",
+                          "--no-cache"], capsys)
         assert rc == 0, err
         outputs.append(out.read_bytes())
     assert outputs[0] != (workdir / "r.urdf").read_bytes()

@@ -53,7 +53,7 @@ def outputs(folder: Path) -> dict[str, bytes]:
 
 
 def test_dask_run_equals_local_run(cluster, tree, tmp_path):
-    options = FixOptions(strict=True)  # bad.urdf (missing mesh) fails
+    options = FixOptions(strict=True, recompute="all")  # bad.urdf (missing mesh) fails
     local = run_batch(collect_jobs([tree], tmp_path / "local"), options,
                       BatchSettings(use_cache=False))
     remote = run_batch(collect_jobs([tree], tmp_path / "dask"), options,
@@ -67,7 +67,7 @@ def test_dask_run_equals_local_run(cluster, tree, tmp_path):
 
 
 def test_dask_from_the_command_line(cluster, tree, tmp_path, capsys):
-    code = main(["fix", str(tree / "one.urdf"), str(tree / "two" / "two.urdf"),
+    code = main(["fix", "--all", str(tree / "one.urdf"), str(tree / "two" / "two.urdf"),
                  "-o", str(tmp_path / "out"), "--dask", cluster.scheduler_address, "-q",
                  "--no-cache"])
     assert code == 0, capsys.readouterr().err

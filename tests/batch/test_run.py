@@ -17,6 +17,9 @@ from urdfinertia.cli import main
 from urdfinertia.errors import OutputError, UrdfError
 from urdfinertia.link.options import FixOptions
 
+#: every link recomputed, any element problem fatal: the batch machinery under test
+STRICT_ALL = FixOptions(strict=True, recompute="all")
+
 
 def link(name: str, geometry: str, xyz: str = "0 0 0") -> str:
     return (f'  <link name="{name}"><collision><origin xyz="{xyz}"/>'
@@ -91,7 +94,7 @@ def test_bad_inputs_are_refused(tmp_path, make):
 
 
 def test_results_are_identical_for_any_jobs_and_cache(tree, tmp_path):
-    options = FixOptions()
+    options = FixOptions(recompute="all")
     runs = {
         "serial, no cache": BatchSettings(jobs=1, use_cache=False),
         "2 workers, cold cache": BatchSettings(jobs=2, cache_dir=tmp_path / "c"),
@@ -118,9 +121,9 @@ def test_results_are_identical_for_any_jobs_and_cache(tree, tmp_path):
 def test_batch_output_equals_the_single_file_command(tree, tmp_path):
     source = tree / "pkg_a" / "robot_a.urdf"
     # the outputs land in different folders: mesh references kept, so the bytes compare
-    assert main(["fix", str(source), "-o", str(tmp_path / "single.urdf"), "-q",
+    assert main(["fix", "--all", str(source), "-o", str(tmp_path / "single.urdf"), "-q",
                  "--cache-dir", str(tmp_path / "c"), "--keep-mesh-paths"]) == 0
-    assert main(["fix", str(tree), "-o", str(tmp_path / "many"), "-q", "--jobs", "2",
+    assert main(["fix", "--all", str(tree), "-o", str(tmp_path / "many"), "-q", "--jobs", "2",
                  "--cache-dir", str(tmp_path / "c"), "--keep-mesh-paths"]) == 0
     single = (tmp_path / "single.urdf").read_bytes()
     assert (tmp_path / "many" / "pkg_a" / "robot_a.urdf").read_bytes() == single
@@ -137,7 +140,7 @@ def test_each_distinct_mesh_is_read_once_with_workers(tree, tmp_path, monkeypatc
     real = meshlib.load_mesh  # the worker task (batch.tasks.mesh_task) reads through it too
     monkeypatch.setattr(meshlib, "load_mesh", lambda p, m: reads.append(p) or real(p, m))
     monkeypatch.setattr(batch, "open_executor", threads)  # same process: reads are seen
-    report = run_batch(collect_jobs([tree], tmp_path / "out"), FixOptions(),
+    report = run_batch(collect_jobs([tree], tmp_path / "out"), FixOptions(recompute="all"),
                        BatchSettings(jobs=2, use_cache=False))
     assert not report.failed
     assert sorted(Path(p).name for p in reads) == ["ball.stl", "box.stl"]
@@ -147,7 +150,7 @@ def test_each_distinct_mesh_is_read_once_in_one_process(tree, tmp_path, monkeypa
     reads: list[str] = []
     real = meshlib.load_mesh
     monkeypatch.setattr(meshlib, "load_mesh", lambda p, m: reads.append(p) or real(p, m))
-    run_batch(collect_jobs([tree], tmp_path / "out"), FixOptions(),
+    run_batch(collect_jobs([tree], tmp_path / "out"), FixOptions(recompute="all"),
               BatchSettings(jobs=1, use_cache=False))
     assert sorted(Path(p).name for p in reads) == ["ball.stl", "box.stl"]
 
@@ -163,7 +166,7 @@ def broken(tree) -> Path:
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_failures_are_reported_per_file_and_the_rest_is_written(broken, tmp_path, jobs):
     out = tmp_path / "out"
-    report = run_batch(collect_jobs([broken], out), FixOptions(strict=True),
+    report = run_batch(collect_jobs([broken], out), STRICT_ALL,
                        BatchSettings(jobs=jobs, use_cache=False))
     failed = {o.source.name: o.error for o in report.failed}
     assert set(failed) == {"bad_xml.urdf", "no_mesh.urdf"}
@@ -174,7 +177,7 @@ def test_failures_are_reported_per_file_and_the_rest_is_written(broken, tmp_path
 
 
 def test_cli_exit_code_names_each_failed_file(broken, tmp_path, capsys):
-    code = main(["fix", str(broken), "-o", str(tmp_path / "out"), "--jobs", "2", "-q",
+    code = main(["fix", "--all", str(broken), "-o", str(tmp_path / "out"), "--jobs", "2", "-q",
                  "--no-cache", "--strict"])
     err = capsys.readouterr().err
     assert code == 2
@@ -193,14 +196,14 @@ def test_cli_batch_exit_1_lists_the_links_left(broken, tmp_path, capsys):
 
 
 def test_cli_several_inputs_need_an_output_folder(tree, capsys):
-    code = main(["fix", str(tree / "pkg_a" / "robot_a.urdf"), str(tree / "pkg_b")])
+    code = main(["fix", "--all", str(tree / "pkg_a" / "robot_a.urdf"), str(tree / "pkg_b")])
     assert code == 2
     assert "-o FOLDER or --in-place" in capsys.readouterr().err
 
 
 def test_cli_in_place_batch_keeps_backups(tree, tmp_path):
     before = (tree / "pkg_a" / "robot_a.urdf").read_bytes()
-    assert main(["fix", str(tree), "--in-place", "-q", "--no-cache"]) == 0
+    assert main(["fix", "--all", str(tree), "--in-place", "-q", "--no-cache"]) == 0
     assert (tree / "pkg_a" / "robot_a.urdf.bak").read_bytes() == before
     assert (tree / "pkg_a" / "robot_a.urdf").read_bytes() != before
 
@@ -209,7 +212,7 @@ def test_cli_json_lists_every_file(tree, tmp_path):
     import json
 
     report = tmp_path / "r.json"
-    assert main(["fix", str(tree), "-o", str(tmp_path / "out"), "-q", "--no-cache",
+    assert main(["fix", "--all", str(tree), "-o", str(tmp_path / "out"), "-q", "--no-cache",
                  "--json", str(report)]) == 0
     doc = json.loads(report.read_text())
     assert sorted(Path(f["file"]).name for f in doc["files"]) == [
@@ -219,14 +222,14 @@ def test_cli_json_lists_every_file(tree, tmp_path):
 
 def test_single_file_with_workers_matches_serial(tree, tmp_path):
     source = str(tree / "pkg_a" / "robot_a.urdf")
-    assert main(["fix", source, "-o", str(tmp_path / "one.urdf"), "-q", "--no-cache"]) == 0
-    assert main(["fix", source, "-o", str(tmp_path / "two.urdf"), "-q", "--no-cache",
+    assert main(["fix", "--all", source, "-o", str(tmp_path / "one.urdf"), "-q", "--no-cache"]) == 0
+    assert main(["fix", "--all", source, "-o", str(tmp_path / "two.urdf"), "-q", "--no-cache",
                  "--jobs", "2"]) == 0
     assert (tmp_path / "one.urdf").read_bytes() == (tmp_path / "two.urdf").read_bytes()
 
 
 def test_in_memory_jobs_keep_their_document(tree):
-    report = run_batch([FileJob(tree / "pkg_b" / "robot_c.urdf")], FixOptions(),
+    report = run_batch([FileJob(tree / "pkg_b" / "robot_c.urdf")], FixOptions(recompute="all"),
                        BatchSettings(use_cache=False))
     assert report.outcomes[0].document is not None
     assert b"<inertial>" in report.outcomes[0].document
@@ -237,7 +240,7 @@ def test_warm_results_follow_edited_meshes_and_options(tree, tmp_path):
 
     def run(name, options=None, **kw):
         out = tmp_path / name
-        report = run_batch(collect_jobs([tree], out), options or FixOptions(),
+        report = run_batch(collect_jobs([tree], out), options or FixOptions(recompute="all"),
                            BatchSettings(cache_dir=cache, **kw))
         assert not report.failed
         return report, outputs(out)
@@ -248,27 +251,28 @@ def test_warm_results_follow_edited_meshes_and_options(tree, tmp_path):
     assert report.file_hits == 1  # robot_c has no mesh; a and b use box.stl
     _, fresh = run("reference", use_cache=False)
     assert edited == fresh
-    report, heavier = run("other density", FixOptions(mass="density", density=2000.0))
+    report, heavier = run("other density",
+                          FixOptions(recompute="all", mass="density", density=2000.0))
     assert report.file_hits == 0
     assert heavier != fresh
 
 
 def test_a_corrupt_whole_file_entry_is_recomputed(tree, tmp_path):
     cache = tmp_path / "c"
-    run_batch(collect_jobs([tree], tmp_path / "cold"), FixOptions(),
+    run_batch(collect_jobs([tree], tmp_path / "cold"), FixOptions(recompute="all"),
               BatchSettings(cache_dir=cache))
     entries = sorted((cache / "files-v1").glob("??/*.entry"))
     assert len(entries) == 3
     for entry in entries:
         data = entry.read_bytes()
         entry.write_bytes(data[:-10] + b"<evil/>   ")  # same length, other document
-    report = run_batch(collect_jobs([tree], tmp_path / "warm"), FixOptions(),
+    report = run_batch(collect_jobs([tree], tmp_path / "warm"), FixOptions(recompute="all"),
                        BatchSettings(cache_dir=cache))
     assert report.file_hits == 0  # the document's digest no longer matches
     assert b"<evil/>" not in b"".join(outputs(tmp_path / "warm").values())
     for entry in entries:
         entry.write_bytes(b"garbage")
-    report = run_batch(collect_jobs([tree], tmp_path / "again"), FixOptions(),
+    report = run_batch(collect_jobs([tree], tmp_path / "again"), FixOptions(recompute="all"),
                        BatchSettings(cache_dir=cache))
     assert report.file_hits == 0
     assert outputs(tmp_path / "again") == outputs(tmp_path / "cold")
@@ -277,10 +281,11 @@ def test_a_corrupt_whole_file_entry_is_recomputed(tree, tmp_path):
 def test_whole_file_results_do_not_depend_on_the_working_folder(tree, tmp_path, monkeypatch):
     cache = tmp_path / "c"
     monkeypatch.chdir(tree)
-    run_batch(collect_jobs([Path("pkg_a")], tmp_path / "one"), FixOptions(),
+    run_batch(collect_jobs([Path("pkg_a")], tmp_path / "one"), FixOptions(recompute="all"),
               BatchSettings(cache_dir=cache))
     monkeypatch.chdir(tmp_path)
-    report = run_batch(collect_jobs([tree / "pkg_a"], tmp_path / "two"), FixOptions(),
+    report = run_batch(collect_jobs([tree / "pkg_a"], tmp_path / "two"),
+                       FixOptions(recompute="all"),
                        BatchSettings(cache_dir=cache))
     assert report.file_hits == 2
     assert outputs(tmp_path / "one") == outputs(tmp_path / "two")
@@ -290,7 +295,7 @@ def test_errors_fixed_by_the_inputs_are_cached_until_the_inputs_change(broken, t
     cache = tmp_path / "c"
 
     def run(name):
-        report = run_batch(collect_jobs([broken], tmp_path / name), FixOptions(strict=True),
+        report = run_batch(collect_jobs([broken], tmp_path / name), STRICT_ALL,
                            BatchSettings(cache_dir=cache))
         return report, {o.source.name: o.error for o in report.failed}
 
@@ -310,9 +315,9 @@ def test_errors_fixed_by_the_inputs_are_cached_until_the_inputs_change(broken, t
 def test_a_cached_error_names_the_source_as_spelled(broken, tmp_path, monkeypatch):
     cache = tmp_path / "c"
     monkeypatch.chdir(broken)
-    first = run_batch(collect_jobs([Path("pkg_b")], tmp_path / "one"), FixOptions(strict=True),
+    first = run_batch(collect_jobs([Path("pkg_b")], tmp_path / "one"), STRICT_ALL,
                       BatchSettings(cache_dir=cache))
-    second = run_batch(collect_jobs([broken / "pkg_b"], tmp_path / "two"), FixOptions(strict=True),
+    second = run_batch(collect_jobs([broken / "pkg_b"], tmp_path / "two"), STRICT_ALL,
                        BatchSettings(cache_dir=cache))
     errors = [sorted(o.error for o in r.failed) for r in (first, second)]
     assert all(e.startswith("pkg_b") for e in errors[0])
@@ -330,7 +335,7 @@ def test_errors_that_may_depend_on_the_environment_are_not_cached(tree, tmp_path
     monkeypatch.setattr(meshlib, "load_mesh", unreadable)
     cache = tmp_path / "c"
     for name in ("one", "two"):
-        report = run_batch(collect_jobs([tree], tmp_path / name), FixOptions(strict=True),
+        report = run_batch(collect_jobs([tree], tmp_path / name), STRICT_ALL,
                            BatchSettings(cache_dir=cache))
         assert {o.source.name for o in report.failed} == {"robot_a.urdf", "robot_b.urdf"}
         assert report.file_hits == (0 if name == "one" else 1)  # robot_c only
@@ -338,9 +343,9 @@ def test_errors_that_may_depend_on_the_environment_are_not_cached(tree, tmp_path
 
 def test_a_warm_run_writes_every_output_and_keeps_the_order(tree, tmp_path):
     settings = BatchSettings(cache_dir=tmp_path / "c")
-    run_batch(collect_jobs([tree], tmp_path / "cold"), FixOptions(strict=True), settings)
+    run_batch(collect_jobs([tree], tmp_path / "cold"), STRICT_ALL, settings)
     jobs = collect_jobs([tree], tmp_path / "warm")
-    report = run_batch(jobs, FixOptions(strict=True), settings)  # every file from the cache
+    report = run_batch(jobs, STRICT_ALL, settings)  # every file from the cache
     assert report.file_hits == 3
     assert [o.source for o in report.outcomes] == [j.source for j in jobs]
     assert all(o.output == j.output and o.document is None
@@ -369,12 +374,12 @@ def test_urdf_files_finds_what_rglob_finds(tmp_path):
 def test_an_altered_error_entry_is_recomputed(broken, tmp_path):
     cache = tmp_path / "c"
     source = broken / "pkg_b" / "no_mesh.urdf"
-    run_batch([FileJob(source)], FixOptions(strict=True), BatchSettings(cache_dir=cache))
+    run_batch([FileJob(source)], STRICT_ALL, BatchSettings(cache_dir=cache))
     (entry,) = (cache / "files-v1").glob("??/*.entry")
     data = entry.read_bytes()
     at = data.rindex(b"missing.stl")  # in the message (the body), not in the header
     entry.write_bytes(data[:at] + b"ELSEWHERE!!" + data[at + 11:])  # same length
-    report = run_batch([FileJob(source)], FixOptions(strict=True), BatchSettings(cache_dir=cache))
+    report = run_batch([FileJob(source)], STRICT_ALL, BatchSettings(cache_dir=cache))
     assert report.file_hits == 0
     assert "missing.stl" in report.outcomes[0].error
 

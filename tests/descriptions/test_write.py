@@ -17,7 +17,7 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 
 def test_styled_file_changes_only_inertials(tmp_path):
     src = DATA / "styled.urdf"
-    result = fix_file(src, FixOptions())
+    result = fix_file(src, FixOptions(recompute="all"))
     assert result.changed
     assert_only_inertials_differ(src.read_bytes(), result.output)
     # the inserted inertial uses the file's tab indentation
@@ -27,7 +27,7 @@ def test_styled_file_changes_only_inertials(tmp_path):
 
 
 def test_output_reparses_with_the_written_values():
-    result = fix_file(DATA / "styled.urdf", FixOptions())
+    result = fix_file(DATA / "styled.urdf", FixOptions(recompute="all"))
     robot = robot_from_bytes(result.output, "out.urdf")
     for r in result.links:
         if r.assembly is None:
@@ -40,10 +40,10 @@ def test_output_reparses_with_the_written_values():
 
 
 def test_fix_is_idempotent(tmp_path):
-    first = fix_file(DATA / "styled.urdf", FixOptions())
+    first = fix_file(DATA / "styled.urdf", FixOptions(recompute="all"))
     out = tmp_path / "once.urdf"
     out.write_bytes(first.output)
-    second = fix_file(out, FixOptions())
+    second = fix_file(out, FixOptions(recompute="all"))
     assert second.output == first.output
 
 
@@ -51,7 +51,7 @@ def test_crlf_files_keep_crlf(tmp_path):
     text = (DATA / "styled.urdf").read_bytes().replace(b"\n", b"\r\n")
     path = tmp_path / "crlf.urdf"
     path.write_bytes(text)
-    out = fix_file(path, FixOptions()).output
+    out = fix_file(path, FixOptions(recompute="all")).output
     assert out.count(b"\n") == out.count(b"\r\n")
 
 
@@ -76,7 +76,7 @@ def test_tiny_tensor_keeps_precision():
 
 def test_real_robot_round_trip(erd_dir):
     src = erd_dir / "robots" / "ur_description" / "urdf" / "ur5_robot.urdf"
-    result = fix_file(src, FixOptions())
+    result = fix_file(src, FixOptions(recompute="all"))
     assert result.changed
     assert_only_inertials_differ(src.read_bytes(), result.output)
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import re
 
 from urdfinertia.descriptions.urdf.write import scan_links
 
@@ -23,6 +24,10 @@ def assert_only_inertials_differ(before: bytes, after: bytes) -> None:
     a, b = before.splitlines(), after.splitlines()
     in_a, in_b = inertial_lines(before), inertial_lines(after)
     matcher = difflib.SequenceMatcher(a=a, b=b, autojunk=False)
+    # a self-closing <link .../> given an inertial opens and closes around it
+    in_a |= {i for i, line in enumerate(a) if re.fullmatch(rb"\s*<link\b[^>]*/>\s*", line)}
+    in_b |= {i for i, line in enumerate(b) if re.fullmatch(rb"\s*(<link\b[^>]*>|</link>)\s*",
+                                                           line)}
     for tag, i1, i2, j1, j2 in matcher.get_opcodes():
         if tag == "equal":
             continue

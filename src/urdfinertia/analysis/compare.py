@@ -25,13 +25,14 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.inertia.massprops import MassProperties
@@ -39,6 +40,7 @@ from urdfinertia.link.fix import fix_robot
 
 #: Principal moments closer than this fraction of the largest count as equal (degenerate).
 from urdfinertia.link.options import FixOptions
+from urdfinertia.link.policy import every_link, plan_robot
 from urdfinertia.link.results import FixResult
 
 #: Moments within a few percent give axes that swing with any perturbation of that size.
@@ -67,6 +69,8 @@ class LinkComparison:
     size: float | None = None  # the length L used by com_distance_rel, m
     moments_a: np.ndarray | None = None  # principal moments ascending, even when invalid
     moments_b: np.ndarray | None = None
+    #: what ``fix`` would do with the link (:mod:`urdfinertia.link.policy`); geometry only
+    decision: str = ""
 
     def score(self, tol_com: float = DEFAULT_TOL_COM,
               tol_inertia: float = DEFAULT_TOL_INERTIA) -> float:
@@ -215,9 +219,12 @@ def compare_with_geometry(path: str | Path, options: FixOptions,
 
     Links with neither an inertial nor geometry are left out.
     """
+    # B is the geometry's value for every link; the default policy's decision goes alongside
+    meshes = MeshLibrary(options.package_dirs, options.max_faces)
     if fix_result is None:
         robot, data = read_description(path, lenient=True)
-        fix_result = fix_robot(robot, data, options)
+        fix_result = fix_robot(robot, data, every_link(options), meshes)
+    plan = plan_robot(fix_result.robot, options, meshes)
     out = []
     for r in fix_result.links:
         a = RawInertial.from_inertial(r.previous) if r.previous is not None else None
@@ -225,9 +232,10 @@ def compare_with_geometry(path: str | Path, options: FixOptions,
              if r.assembly is not None else None)
         if a is None and b is None:
             continue
-        out.append(compare_raw(r.name, a, b, tol_com=tol_com, tol_inertia=tol_inertia,
-                               tol_mass=tol_mass, missing_a="no <inertial> in the file",
-                               missing_b="no geometry to compute from"))
+        c = compare_raw(r.name, a, b, tol_com=tol_com, tol_inertia=tol_inertia,
+                        tol_mass=tol_mass, missing_a="no <inertial> in the file",
+                        missing_b="no geometry to compute from")
+        out.append(replace(c, decision=plan[r.name].describe(done=False)))
     return out
 
 
@@ -300,7 +308,7 @@ def comparison_dict(c: LinkComparison) -> dict[str, Any]:
                             "iyz": i[1, 2], "izz": i[2, 2]},
                 "principal_moments": mp.principal()[0].tolist()}
 
-    return {"link": c.link, "verdict": c.verdict, "note": c.note,
+    return {"link": c.link, "verdict": c.verdict, "note": c.note, "fix": c.decision,
             "mass_ratio": num(c.mass_ratio), "com_distance": num(c.com_distance),
             "com_distance_rel": num(c.com_distance_rel),
             "inertia_rel_error": num(c.inertia_rel_error),

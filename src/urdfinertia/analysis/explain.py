@@ -118,7 +118,7 @@ def link_breakdown(result: LinkResult) -> Breakdown:
         element = _contribution(name, [pr.mass_properties for pr in prs], total.com, moments,
                                 axes, sum(p.volume for p in parts))
         elements.append(ElementBreakdown(element, parts))
-    return Breakdown(result.name, result.geometry, result.assembly.mass_source, total, moments,
+    return Breakdown(result.name, result.geometry, str(result.assembly.mass_source), total, moments,
                      axes, tuple(elements), result.warnings)
 
 

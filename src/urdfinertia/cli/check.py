@@ -12,6 +12,7 @@ import json
 import sys
 from collections import Counter
 from pathlib import Path
+from typing import Any
 
 from rich.markup import escape
 from rich.table import Table
@@ -73,6 +74,7 @@ def run(args: argparse.Namespace) -> int:
                 else Baseline.empty(Path.cwd()))
     engines = engine_request(args)
     checked: list[CheckedFile] = []
+    plans: dict[Path, Any] = {}
     for path in args.urdf:
         data = read_bytes(path)
         if args.skip_unknown_formats and not is_description(data, path):
@@ -83,12 +85,16 @@ def run(args: argparse.Namespace) -> int:
             findings += engines.findings(path, robot, options.package_dirs)
         checked.append(CheckedFile(path, robot, findings, locate_all(robot, data, findings),
                                    baseline.mark(findings, path)))
+        if meshes is not None:  # what fix would do, by the same rules (issue 14)
+            from urdfinertia.link.policy import plan_robot
+
+            plans[path] = plan_robot(robot, options, meshes)
     code = max((exit_code(cf.new, args.strict) for cf in checked), default=0)
     if args.write_baseline is not None:
         n = write_baseline(args.write_baseline, [(cf.path, cf.findings) for cf in checked])
         print(f"{args.write_baseline}: baseline of {n} finding(s) written", file=sys.stderr)
         code = 0
-    doc = json_document(checked, code, args.strict)
+    doc = json_document(checked, code, args.strict, plans)
     sarif = sarif_document(checked, with_baseline=args.baseline is not None,
                            include_info=args.show_info)
     if args.json is not None:
@@ -100,7 +106,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def print_report(args: argparse.Namespace, checked: list[CheckedFile], doc: dict,
-                 sarif: dict) -> None:
+                 sarif: dict, plans: dict[Path, Any] | None = None) -> None:
     if args.format == "json":
         print(json.dumps(doc, indent=2))
     elif args.format == "sarif":
@@ -118,12 +124,20 @@ def print_report(args: argparse.Namespace, checked: list[CheckedFile], doc: dict
                      if args.show_info or f.severity != "info"]
             if shown:
                 console.print(findings_table(shown, f"{cf.path}: {cf.robot.name}"))
+            if plans and cf.path in plans:
+                from urdfinertia.render.decisions import plan_table
+
+                console.print(plan_table(plans[cf.path],
+                                         f"urdf-inertia fix (default) on {cf.robot.name}"))
         if not (args.quiet and args.format != "text"):
             console.print(summary_line(str(cf.path), len(cf.robot.links), cf.findings,
                                        sum(cf.known)), markup=False, highlight=False)
 
 
-def json_document(checked: list[CheckedFile], code: int, strict: bool) -> dict:
+def json_document(checked: list[CheckedFile], code: int, strict: bool,
+                  plans: dict[Path, Any] | None = None) -> dict:
+    from urdfinertia.render.decisions import plan_dict
+
     report = []
     for cf in checked:
         rows = [{**vars(f), "rule": f.rule.id, "line": loc.line, "column": loc.column,
@@ -132,6 +146,8 @@ def json_document(checked: list[CheckedFile], code: int, strict: bool) -> dict:
         report.append({"file": str(cf.path), "robot": cf.robot.name,
                        "links": len(cf.robot.links), "counts": severity_counts(cf.findings),
                        "findings": rows})
+        if plans and cf.path in plans:
+            report[-1]["fix_plan"] = plan_dict(plans[cf.path])
     return {"exit_code": code, "strict": strict, "files": report}
 
 

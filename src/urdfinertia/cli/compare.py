@@ -122,7 +122,8 @@ def comparison_table(comparisons: list[LinkComparison], title: str) -> Table:
             c.link, f"[{style[c.verdict]}]{c.verdict}[/]", _g(c.mass_ratio, ".4g"),
             _g(c.com_distance * 1000 if c.com_distance is not None else None, ".3g"),
             _g(c.com_distance_rel), _g(c.inertia_rel_error), _moments(c.moments_a),
-            _moments(c.moments_b), _g(c.axis_angle_deg, ".1f"), c.note)
+            _moments(c.moments_b), _g(c.axis_angle_deg, ".1f"),
+            "; ".join(x for x in (c.note, c.decision) if x))
     return table
 
 

@@ -22,6 +22,7 @@ from urdfinertia.cli.batch import (
 from urdfinertia.cli.options import (
     add_common_geometry_arguments,
     add_engine_arguments,
+    add_policy_arguments,
     engine_request,
     options_from_args,
 )
@@ -44,6 +45,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     out.add_argument("--in-place", action="store_true",
                      help="overwrite the input (a copy is kept as URDF.bak)")
     add_common_geometry_arguments(p)
+    add_policy_arguments(p)
     p.add_argument("--json", type=Path, metavar="PATH", help="write per-link results as JSON")
     p.add_argument("-q", "--quiet", action="store_true", help="no table on the terminal")
     p.add_argument("--repair-only", action="store_true",
@@ -122,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
         if plan is not None:
             writeback.print_summary(plan, console)
+    _mass_summary(result, args.quiet)  # issue 14: the robot's mass never changes silently
     if args.output is None and not args.in_place and plan is None:
         sys.stdout.buffer.write(document)  # a filter: -q only silences the table
     for note in result.robot.notes:  # e.g. SDF <include>s, which are not followed
@@ -157,6 +160,14 @@ def engine_regressions(args: argparse.Namespace, result, options) -> int:
     for f in worse:
         print(f"{args.urdf}: {f.severity}: {f.message}", file=sys.stderr)
     return 1 if any(f.severity == "error" for f in worse) else 0
+
+
+def _mass_summary(result, quiet: bool) -> None:
+    from rich.console import Console
+
+    from urdfinertia.render.decisions import print_mass_summary
+
+    print_mass_summary(result, Console(stderr=True, width=160), quiet=quiet)
 
 
 __all__ = ["add_arguments", "run", "UrdfInertiaError"]

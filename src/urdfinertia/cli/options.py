@@ -84,6 +84,26 @@ def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
                    help="decomposition spec: parts with known mass, density or material")
 
 
+def add_policy_arguments(p: argparse.ArgumentParser) -> None:
+    """Which links ``fix`` recomputes (urdfinertia.link.policy); default: the wrong ones."""
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--all", action="store_true", dest="recompute_all",
+                       help="recompute every link that has geometry (by default only links "
+                            "whose inertial is missing, invalid, a placeholder or implausible "
+                            "are recomputed; the others are kept byte for byte)")
+    which.add_argument("--links", nargs="+", metavar="NAME", default=None,
+                       help="recompute exactly these links (links in --spec always are)")
+
+
+def recompute_from_args(args: argparse.Namespace) -> tuple[str, tuple[str, ...]]:
+    if getattr(args, "recompute_all", False):
+        return "all", ()
+    links = getattr(args, "links", None)
+    if links:
+        return "links", tuple(links)
+    return "needed", ()
+
+
 def options_from_args(args: argparse.Namespace) -> FixOptions:
     spec = None
     if getattr(args, "spec", None) is not None:
@@ -99,6 +119,8 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
         spec=spec,
         strict=bool(getattr(args, "strict", False)),
         keep_auto=getattr(args, "keep_auto", False),
+        recompute=recompute_from_args(args)[0],
+        links=recompute_from_args(args)[1],
     )
 
 

@@ -13,10 +13,8 @@ from dataclasses import dataclass
 
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
+from urdfinertia.link.mass import MassSource, share_mass, signed_mass
 from urdfinertia.link.parts import Part
-
-#: Relative mismatch tolerated between a pinned link mass and fully known part masses.
-PINNED_MASS_RTOL = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -34,7 +32,7 @@ class Assembly:
 
     total: MassProperties
     parts: tuple[PartResult, ...]
-    mass_source: str  # e.g. "kept 2.5 kg", "density 1000 kg/m^3"
+    mass_source: MassSource  # what the mass actually came from
 
 
 def _scaled_to(parts: Sequence[Part], mass: float) -> list[Part]:
@@ -48,7 +46,7 @@ def _scaled_to(parts: Sequence[Part], mass: float) -> list[Part]:
     if all(p.mass is None for p in parts) and len({p.density for p in parts}) == 1:
         # equal densities: the mass spread by volume, on the exact uniform path
         return [dataclasses.replace(p, density=None, relative=False) for p in parts]
-    weight = sum(_signed(p, p.mass if p.mass is not None else (p.density or 0.0) * p.volume)
+    weight = sum(signed_mass(p, p.mass if p.mass is not None else (p.density or 0.0) * p.volume)
                  for p in parts)
     if not weight > 0:
         raise UrdfInertiaError("the parts' stated masses and densities weigh nothing: the "
@@ -61,58 +59,26 @@ def _scaled_to(parts: Sequence[Part], mass: float) -> list[Part]:
             for p in parts]
 
 
-def _signed(part: Part, value: float) -> float:
-    return -value if part.cavity else value
-
-
-def assemble(parts: Sequence[Part], *, density: float, pinned_mass: float | None,
-             pinned_reason: str = "pinned") -> Assembly:
+def assemble(parts: Sequence[Part], source: MassSource) -> Assembly:
     """Give each part its mass and sum them in the link frame.
 
     Parameters
     ----------
     parts
         The link's parts, each at unit density in its own frame.
-    density : float
-        kg/m^3 for parts with neither a known mass nor a density, when no mass is pinned.
-    pinned_mass : float or None
-        The link's total mass, kg. Parts with no known mass or density share what is left
-        uniformly by volume.
+    source : MassSource
+        What the link's mass is asked to be (:func:`urdfinertia.link.mass.link_mass_source`):
+        a total (pinned or kept) that parts with no known mass or density share uniformly by
+        volume, or the density of those parts.
     """
     if not parts:
         raise UrdfInertiaError("link has no parts")
-    if pinned_mass is not None and all(p.relative for p in parts):
-        parts = _scaled_to(parts, pinned_mass)
-    known = 0.0
-    free_volume = 0.0
-    for p in parts:
-        if p.mass is not None:
-            known += _signed(p, p.mass)
-        elif p.density is not None:
-            known += _signed(p, p.density * p.volume)
-        else:
-            free_volume += _signed(p, p.volume)
-    has_free = any(p.mass is None and p.density is None for p in parts)
-    if pinned_mass is not None and has_free:
-        left = pinned_mass - known
-        if not free_volume > 0:
-            raise UrdfInertiaError("parts without a known mass have no net volume to share "
-                                   f"the remaining {left:.6g} kg")
-        if not left > 0:
-            raise UrdfInertiaError(f"known part masses ({known:.6g} kg) reach or exceed the "
-                                   f"{pinned_reason} link mass {pinned_mass:.6g} kg")
-        free_density = left / free_volume
-        source = f"{pinned_reason} {pinned_mass:.6g} kg"
-    else:
-        free_density = density
-        source = f"density {density:g} kg/m^3"
-        if not has_free:
-            source = "known part masses/densities"
-        elif len(parts) > sum(p.mass is None and p.density is None for p in parts):
-            source += " for parts without a known mass"
-        if pinned_mass is not None and abs(known - pinned_mass) > PINNED_MASS_RTOL * pinned_mass:
-            raise UrdfInertiaError(f"part masses sum to {known:.6g} kg but the link mass is "
-                                   f"{pinned_reason} at {pinned_mass:.6g} kg")
+    if source.total is not None and all(p.relative for p in parts):
+        # stated densities/masses are weights of the parts against each other (MJCF geoms,
+        # SDF collisions of a body whose mass is written): scaled to the link's total
+        parts = _scaled_to(parts, source.total)
+    free_density, source = share_mass(parts, source)
+    pinned_mass = source.total
     if all(p.mass is None and p.density is None and not p.cavity for p in parts):
         # The uniform case: combine at unit density, then scale once. Scaling one total
         # keeps ``fix`` idempotent bit for bit (the written mass gives the same tensor).
@@ -129,7 +95,7 @@ def assemble(parts: Sequence[Part], *, density: float, pinned_mass: float | None
         else:
             rho = p.density if p.density is not None else free_density
             mass = rho * p.volume
-        results.append(PartResult(p, p.in_link(_signed(p, mass)), rho))
+        results.append(PartResult(p, p.in_link(-mass if p.cavity else mass), rho))
     total = combine(r.mass_properties for r in results)
     if not total.mass > 0:
         raise UrdfInertiaError(f"link mass comes out as {total.mass:.6g} kg (cavities larger "

@@ -1,4 +1,6 @@
-"""The ``fix`` job: recompute every link's inertial from its geometry and patch the file.
+"""The ``fix`` job: recompute the links' inertials from their geometry and patch the file.
+
+Which links, and which of their values are kept, is :mod:`urdfinertia.link.policy`'s rule.
 
 Data flow: read (:mod:`urdf_read`) -> parts (:mod:`parts`) -> assemble (:mod:`assemble`)
 -> write (:mod:`urdf_write`). Nothing here touches the file system except through
@@ -17,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, existing_mass, select_geometry
+from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
 from urdfinertia.link.results import FixResult, LinkResult
 
 if TYPE_CHECKING:
@@ -33,13 +35,17 @@ if TYPE_CHECKING:
 
 
 def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: Path,
-                 problems: Sequence[Problem] = ()) -> LinkResult:
+                 problems: Sequence[Problem] = (), *, trust_mass: bool = True) -> LinkResult:
     """Recompute one link, or report why it stays untouched or is left as it was.
+
+    ``trust_mass=False``: the written mass is not kept even with ``options.mass == "keep"``
+    (the policy found it implausible, :mod:`urdfinertia.link.policy`).
 
     ``problems``: what the reader already read past in this link (dropped elements,
     ignored values); they are reported with the link's result.
     """
     from urdfinertia.link.assemble import assemble
+    from urdfinertia.link.mass import link_mass_source
 
     if options.keep_auto and link.auto_inertial:
         return LinkResult(link.name, "untouched", "none", None, link.inertial,
@@ -49,11 +55,9 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
     link_spec = spec.link(link.name) if spec is not None else None
     found = list(problems)
     if link_spec is not None:
-        parts, pinned = link_spec.parts(link, meshes, urdf_dir)
+        parts, _ = link_spec.parts(link, meshes, urdf_dir)
         role = "spec"
-        reason = "pinned"
-        if pinned is None and options.mass == "keep" and link_spec.uses_default_mass():
-            pinned, reason = existing_mass(link), "kept"
+        source = link_spec.mass_source(link, options, trust_mass=trust_mass)
     else:
         role, refs = select_geometry(link, options.geometry)
         parts = _usable_parts(link, refs, meshes, urdf_dir, found)
@@ -64,12 +68,10 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
             parts = _usable_parts(link, link.visuals, meshes, urdf_dir, found)
         if not parts:
             return _not_computed(link, found)
-        pinned = existing_mass(link) if options.mass == "keep" else None
-        reason = "kept"
+        source = link_mass_source(link, options, trust_mass=trust_mass)
     try:
         try:
-            result = assemble(parts, density=options.density, pinned_mass=pinned,
-                              pinned_reason=reason)
+            result = assemble(parts, source)
         except ValueError as exc:  # e.g. an overflow from an absurd density or mass
             raise UrdfInertiaError(f"mass properties cannot be computed: {exc}") from None
     except UrdfInertiaError as exc:
@@ -181,15 +183,20 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
+    # which links are recomputed, and what of them is kept: link/policy.py (issue 14)
+    from urdfinertia.link.apply import apply_decision
+    from urdfinertia.link.policy import plan_robot
+
     by_link: dict[str, list[Problem]] = {}
     for problem in robot.problems:
         if problem.link is not None:
             by_link.setdefault(problem.link, []).append(problem)
+    plan = plan_robot(robot, options, meshes, urdf_dir)
     results = []
     for link in robot.links:
         try:
-            results.append(compute_link(link, options, meshes, urdf_dir,
-                                        by_link.get(link.name, ())))
+            results.append(apply_decision(link, plan[link.name], options, meshes, urdf_dir,
+                                          tuple(by_link.get(link.name, ()))))
         except UrdfInertiaError as exc:
             raise exc.with_context(file=path, link=link.name) from None
     if options.strict:

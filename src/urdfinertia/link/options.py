@@ -20,6 +20,9 @@ if TYPE_CHECKING:
 
 GEOMETRY_MODES = ("auto", "collision", "visual")
 MASS_MODES = ("keep", "density")
+#: Which links ``fix`` recomputes (:mod:`urdfinertia.link.policy`): "needed" (the links
+#: whose inertial is wrong), "all" (every link with geometry), "links" (those named).
+RECOMPUTE_MODES = ("needed", "all", "links")
 #: Densities outside this range (kg/m^3) suggest a unit slip or a placeholder mass.
 PLAUSIBLE_DENSITY = (50.0, 25000.0)
 
@@ -34,6 +37,8 @@ class FixOptions:
     density : kg/m^3 used when a link has no mass or with ``mass="density"``.
     strict : all or nothing: an element dropped, a value of a link ignored or a link left
         as it was makes :func:`~urdfinertia.link.fix.fix_robot` raise (``--strict``).
+    recompute : which links are recomputed (:data:`RECOMPUTE_MODES`); ``links`` names them
+        for "links". Links named in ``spec`` are always recomputed.
     """
 
     geometry: str = "auto"
@@ -45,12 +50,18 @@ class FixOptions:
     strict: bool = False
     #: leave inertials the description asks its simulator to compute (SDF auto="true")
     keep_auto: bool = False
+    recompute: str = "needed"
+    links: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.geometry not in GEOMETRY_MODES:
             raise ValueError(f"geometry must be one of {GEOMETRY_MODES}")
         if self.mass not in MASS_MODES:
             raise ValueError(f"mass must be one of {MASS_MODES}")
+        if self.recompute not in RECOMPUTE_MODES:
+            raise ValueError(f"recompute must be one of {RECOMPUTE_MODES}")
+        if (self.recompute == "links") != bool(self.links):
+            raise ValueError('links are named with recompute="links", and only then')
         if not (math.isfinite(self.density) and self.density > 0):
             raise ValueError("density must be positive")
 
@@ -68,11 +79,3 @@ def select_geometry(link: Link, mode: str) -> tuple[str, tuple[GeometryRef, ...]
     if mode == "visual" or (mode == "auto" and link.visuals):
         return "visual", link.visuals
     return "none", ()
-
-
-def existing_mass(link: Link) -> float | None:
-    if link.inertial is not None and link.inertial.mass > 0:
-        return link.inertial.mass
-    return None
-
-

@@ -19,6 +19,7 @@ from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.tensor_repair import repair_tensor
 from urdfinertia.link.assemble import Assembly
+from urdfinertia.link.mass import MassSource
 from urdfinertia.link.results import FixResult, LinkResult
 
 
@@ -47,7 +48,7 @@ def repair_link(link: Link) -> LinkResult:
     if not repair.changed:
         return untouched()
     total = MassProperties(raw.mass, raw.com, repair.tensor)
-    assembly = Assembly(total, (), "kept mass and CoM")
+    assembly = Assembly(total, (), MassSource("kept", raw.mass))
     return LinkResult(link.name, "repaired", "as written", assembly, link.inertial,
                       repair.changes)
 

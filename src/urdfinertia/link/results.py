@@ -10,6 +10,7 @@ if TYPE_CHECKING:
     from urdfinertia.descriptions.model import Inertial, Problem, Robot
     from urdfinertia.errors import UrdfError
     from urdfinertia.link.assemble import Assembly
+    from urdfinertia.link.errorbar import ErrorBar
 
 
 #: Problem kinds that ``--strict`` refuses ("lenient" readings are warnings even then).
@@ -28,13 +29,20 @@ class LinkResult:
     """
 
     name: str
-    status: str  # "recomputed" | "untouched" | "left" (left as written, with a reason)
-    geometry: str  # "collision" | "visual" | "spec" | "none"
+    status: str  # "recomputed" | "repaired" | "kept" | "untouched" | "left" (with a reason)
+    geometry: str  # "collision" | "visual" | "spec" | "none" | "as written"
     assembly: Assembly | None
     previous: Inertial | None
     warnings: tuple[str, ...] = ()
     problems: tuple[Problem, ...] = ()
     reason: str | None = None
+    #: the policy's decision in words ("kept: plausible", "recomputed: inertia-zero", ...)
+    decision: str = ""
+    #: which of "mass", "com", "tensor" were kept as written and which derived
+    kept: tuple[str, ...] = ()
+    derived: tuple[str, ...] = ()
+    #: expected error of a tensor derived from homogeneous geometry (None otherwise)
+    error_bar: ErrorBar | None = None
 
     @property
     def size(self) -> float:

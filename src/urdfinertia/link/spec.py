@@ -19,7 +19,7 @@ import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -36,11 +36,13 @@ from urdfinertia.descriptions.model import (
     Sphere,
 )
 from urdfinertia.errors import MeshError, SpecError
+from urdfinertia.link.mass import MassShareError, MassSource, link_mass_source, share_mass
 from urdfinertia.link.materials import MATERIALS, material_density, material_key
 from urdfinertia.link.parts import MeshSource, Part, shape_solids
 
-#: Relative mismatch tolerated between a pinned link mass and fully known part masses.
-PINNED_MASS_RTOL = 1e-9
+if TYPE_CHECKING:
+    from urdfinertia.link.options import FixOptions
+
 PRIMITIVES = ("box", "cylinder", "sphere", "capsule", "mesh")
 REFERENCES = ("collision", "visual")
 _TOP_KEYS = ("links", "materials")
@@ -164,32 +166,25 @@ class LinkSpec:
                               provenance=body.provenance, uncertainty=body.uncertainty))
         return parts
 
+    def mass_source(self, link: Link, options: FixOptions, *, trust_mass: bool = True,
+                    ) -> MassSource:
+        """The link's mass policy (:func:`link_mass_source`) with what this spec says."""
+        return link_mass_source(link, options, self.mass, not self.uses_default_mass(),
+                                trust_mass=trust_mass)
+
+    def mass_key(self, source: MassSource) -> str:
+        """The TOML key a mass problem is reported at."""
+        return f"{self.key}.mass" if source.kind == "pinned" else self.key
+
     def _check_masses(self, parts: list[Part]) -> None:
-        """Known masses against the pinned total, named by spec key (assemble's rules)."""
+        """Known masses against the pinned total, named by spec key (the one sharing rule)."""
         if self.mass is None:
             return
-        known = free_volume = 0.0
-        for p in parts:
-            sign = -1.0 if p.cavity else 1.0
-            if p.mass is not None:
-                known += sign * p.mass
-            elif p.density is not None:
-                known += sign * p.density * p.volume
-            else:
-                free_volume += sign * p.volume
-        key = f"{self.key}.mass"
-        if any(not (p.mass is not None or p.density is not None) for p in parts):
-            if not known < self.mass:
-                raise SpecError(f"{key}: parts with known mass or density already weigh "
-                                f"{known:.6g} kg, the pinned total is {self.mass:.6g} kg",
-                                file=self.path)
-            if not free_volume > 0:
-                raise SpecError(f"{key}: the parts left to share {self.mass - known:.6g} kg "
-                                "have no net volume (cavities only?)", file=self.path)
-        elif abs(known - self.mass) > PINNED_MASS_RTOL * self.mass:
-            raise SpecError(f"{key}: every part's mass is known and they sum to {known:.6g} "
-                            f"kg, not the pinned {self.mass:.6g} kg (drop one or the other)",
-                            file=self.path)
+        source = MassSource("pinned", self.mass)
+        try:
+            share_mass(parts, source)
+        except MassShareError as exc:
+            raise SpecError(f"{self.mass_key(source)}: {exc.cause}", file=self.path) from None
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,7 @@ from urdfinertia.descriptions.formats import read_description
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.fix import fix_robot
 from urdfinertia.link.options import FixOptions
+from urdfinertia.link.policy import every_link
 from urdfinertia.link.results import FixResult, LinkResult
 from urdfinertia.render.compare_plot import error_series
 from urdfinertia.render.scene import (
@@ -79,7 +80,7 @@ def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
     """
     robot, data = read_description(path, lenient=True)
     meshes = MeshLibrary(options.package_dirs, options.max_faces)
-    fix = fix_robot(robot, data, options, meshes)
+    fix = fix_robot(robot, data, every_link(options), meshes)  # the geometry's view
     comparisons = compare_with_geometry(path, options, fix_result=fix)
     findings = check_robot(robot, meshes=meshes, options=options)
     scene = build_scene(robot, meshes, view=view, face_budget=face_budget)
@@ -301,6 +302,8 @@ def _geometry_cell(row: LinkRow) -> str:
 
 def _notes_cell(row: LinkRow) -> str:
     notes = []
+    if row.comparison is not None and row.comparison.decision:
+        notes.append(f"fix: {row.comparison.decision}")
     if row.fix.assembly is not None:
         notes.append(f"mass: {row.fix.assembly.mass_source}")
     notes += list(row.fix.warnings)

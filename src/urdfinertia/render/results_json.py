@@ -8,7 +8,9 @@ import numpy as np
 
 from urdfinertia.descriptions.model import Problem
 from urdfinertia.inertia.massprops import MassProperties
+from urdfinertia.link.apply import mass_change
 from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.render.decisions import decision_dict
 
 
 def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:
@@ -26,7 +28,7 @@ def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:
 
 def link_dict(r: LinkResult) -> dict[str, Any]:
     out: dict[str, Any] = {"link": r.name, "status": r.status, "geometry": r.geometry,
-                           "warnings": list(r.warnings)}
+                           "warnings": list(r.warnings), **decision_dict(r)}
     if r.reason is not None:
         out["reason"] = r.reason
     if r.problems:
@@ -37,7 +39,7 @@ def link_dict(r: LinkResult) -> dict[str, Any]:
                            "inertia_in_link_axes": np.asarray(prev.tensor_in_link()).tolist()}
     if r.assembly is not None:
         out["result"] = mass_properties_dict(r.assembly.total)
-        out["mass_source"] = r.assembly.mass_source
+        out["mass_source"] = str(r.assembly.mass_source)
         out["parts"] = [
             {"name": pr.part.name, "element": pr.part.element, "method": pr.part.method,
              "volume": pr.part.volume, "density": pr.density, "cavity": pr.part.cavity,
@@ -54,6 +56,7 @@ def problem_dict(p: Problem) -> dict[str, Any]:
 
 
 def fix_result_dict(result: FixResult) -> dict[str, Any]:
+    change = mass_change(result)
     return {
         "file": str(result.path),
         "robot": result.robot.name,
@@ -62,5 +65,7 @@ def fix_result_dict(result: FixResult) -> dict[str, Any]:
                         "reason": r.reason} for r in result.left],
         "document_problems": [problem_dict(p) for p in result.robot.problems
                               if p.link is None],
+        "total_mass": {"before": change.before, "after": change.after,
+                       "warning": change.warn},
         "links": [link_dict(r) for r in result.links],
     }

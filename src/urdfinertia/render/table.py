@@ -10,6 +10,7 @@ from rich.table import Table
 
 from urdfinertia.analysis.explain import Breakdown, Contribution, link_breakdown
 from urdfinertia.link.results import LinkResult
+from urdfinertia.render.decisions import link_notes
 
 
 def _g(x: float) -> str:
@@ -40,11 +41,13 @@ def _fix_columns(width: int | None) -> list[str]:
 
 
 def _notes(r: LinkResult) -> str:
+    """Decision, kept/derived, mass source, error bar, then problems and warnings."""
     dropped = [f"{p.element} dropped (line {p.line}): {p.cause}" for p in r.problems
                if p.kind == "dropped" and p.element]
     ignored = [f"{p.element or 'value'} ignored (line {p.line}): {p.cause}"
                for p in r.problems if p.kind == "ignored"]
-    return "; ".join((*dropped, *ignored, *collapse_notes(r.warnings)))
+    return "; ".join(x for x in (*link_notes(r, warnings=False), *dropped, *ignored,
+                                 *collapse_notes(r.warnings)) if x)
 
 
 def collapse_notes(notes: Sequence[str]) -> list[str]:
@@ -86,7 +89,7 @@ def fix_table(results: Sequence[LinkResult], title: str, width: int | None = Non
                 status = "[yellow]left as it was[/yellow]"
                 notes = f"[yellow]left as it was:[/yellow] {r.reason}"
             else:
-                status, notes = r.geometry, "; ".join(x for x in (*r.warnings, _notes(r)) if x)
+                status, notes = r.geometry, _notes(r)
             row({"link": r.name, "mass kg": "-", "CoM m": "-",
                  "principal moments kg m^2": "-", "geometry": status, "notes": notes})
             continue
@@ -103,7 +106,7 @@ def fix_table(results: Sequence[LinkResult], title: str, width: int | None = Non
              "CoM m": _vec(t.com, r.size),  # round-off below 1e-12 x size shown as 0
              "principal moments kg m^2": " ".join(_g(m) for m in moments),
              "geometry": geo,
-             "notes": "; ".join(x for x in (r.assembly.mass_source, _notes(r)) if x)})
+             "notes": _notes(r)})  # decision, kept/derived, mass source, error bar
     return table
 
 

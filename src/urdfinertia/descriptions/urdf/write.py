@@ -192,9 +192,33 @@ def clean(props: MassProperties, size: float) -> tuple[np.ndarray, np.ndarray]:
     return com, inertia
 
 
+_COMMENT = re.compile(rb"<!--.*?-->", re.DOTALL)
+_CHILD = re.compile(rb"<(origin|mass|inertia)\b")
+_SLOTS = {b"origin": 0, b"mass": 1, b"inertia": 2}
+
+
+def inertial_comments(old: bytes) -> dict[int, list[bytes]]:
+    """Comments inside an old ``<inertial>``, by the line of the new one they come before.
+
+    A comment stays in front of the child it preceded (1 origin, 2 mass, 3 inertia) or,
+    after the last child, before ``</inertial>`` (4). Only comments are carried over: the
+    values and their formatting are what is being replaced.
+    """
+    out: dict[int, list[bytes]] = {}
+    for m in _COMMENT.finditer(old):
+        nxt = _CHILD.search(old, m.end())
+        slot = 1 + _SLOTS[nxt.group(1)] if nxt is not None else 4
+        out.setdefault(slot, []).append(m.group(0))
+    return out
+
+
 def inertial_xml(props: MassProperties, size: float, indent: bytes, step: bytes,
-                 newline: bytes) -> bytes:
-    """``<inertial>`` text; the first line has no indent (it replaces one in place)."""
+                 newline: bytes, comments: Mapping[int, list[bytes]] | None = None) -> bytes:
+    """``<inertial>`` text; the first line has no indent (it replaces one in place).
+
+    ``comments`` (from :func:`inertial_comments`) are written, one a line, before the line
+    of their slot.
+    """
     com, i = clean(props, size)
     f = format_float
     lines = [
@@ -205,7 +229,11 @@ def inertial_xml(props: MassProperties, size: float, indent: bytes, step: bytes,
         f'iyy="{f(i[1, 1])}" iyz="{f(i[1, 2])}" izz="{f(i[2, 2])}"/>',
         "</inertial>",
     ]
-    return (newline + indent).join(line.encode() for line in lines)
+    encoded = [line.encode() for line in lines]
+    for slot in sorted(comments or {}, reverse=True):
+        pad = step if slot < 4 else b""
+        encoded[slot:slot] = [pad + c for c in comments[slot]]  # type: ignore[index]
+    return (newline + indent).join(encoded)
 
 
 def _step(data: bytes, span: LinkSpan) -> bytes:
@@ -245,7 +273,9 @@ def patch_inertials(data: bytes, new: Mapping[str, tuple[MassProperties, float]]
         elif span.inertial is not None:
             start, end = span.inertial
             indent = _line_indent(data, start)
-            edits.append((start, end, inertial_xml(props, size, indent, step, newline)))
+            comments = inertial_comments(data[start:end])
+            edits.append((start, end, inertial_xml(props, size, indent, step, newline,
+                                                   comments)))
         else:
             indent = span.first_child_indent if span.first_child_indent is not None else (
                 span.link_indent + step)
