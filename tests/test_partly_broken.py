@@ -34,7 +34,7 @@ def folder(tmp_path, monkeypatch) -> Path:
 
 def fix(urdf: Path, capsys, *extra: str) -> tuple[int, str, Path]:
     out = urdf.with_name(urdf.stem + ".out.urdf")
-    code = cli.main(["fix", str(urdf), "-o", str(out), "-q", "--no-cache", *extra])
+    code = cli.main(["fix", "--all", str(urdf), "-o", str(out), "-q", "--no-cache", *extra])
     return code, capsys.readouterr().err, out
 
 
@@ -175,16 +175,17 @@ def test_relative_mesh_references_follow_the_output(folder, capsys, tmp_path):
     elsewhere = tmp_path / "elsewhere" / "deeper"
     elsewhere.mkdir(parents=True)
     out = elsewhere / "r.urdf"
-    code = cli.main(["fix", str(folder / "clean.urdf"), "-o", str(out), "-q", "--no-cache"])
+    code = cli.main(["fix", "--all", str(folder / "clean.urdf"), "-o", str(out), "-q",
+                     "--no-cache"])
     err = capsys.readouterr().err
     assert code == 0 and "1 relative mesh reference(s) rewritten" in err, err
     assert b'filename="../../robot/cube.stl"' in out.read_bytes()
     # the output resolves to the same mesh: fixing it again gives the same inertials
     again = tmp_path / "again.urdf"
-    assert cli.main(["fix", str(out), "-o", str(again), "-q", "--no-cache",
+    assert cli.main(["fix", "--all", str(out), "-o", str(again), "-q", "--no-cache",
                      "--keep-mesh-paths"]) == 0
     assert inertials(again.read_bytes()) == inertials(out.read_bytes())
     kept = elsewhere / "kept.urdf"
-    assert cli.main(["fix", str(folder / "clean.urdf"), "-o", str(kept), "-q", "--no-cache",
-                     "--keep-mesh-paths"]) == 0
+    assert cli.main(["fix", "--all", str(folder / "clean.urdf"), "-o", str(kept), "-q",
+                     "--no-cache", "--keep-mesh-paths"]) == 0
     assert b'filename="cube.stl"' in kept.read_bytes()

@@ -187,7 +187,7 @@ def test_cli_exit_code_names_each_failed_file(broken, tmp_path, capsys):
 
 def test_cli_batch_exit_1_lists_the_links_left(broken, tmp_path, capsys):
     (broken / "pkg_b" / "bad_xml.urdf").unlink()
-    code = main(["fix", str(broken), "-o", str(tmp_path / "out"), "-q", "--no-cache"])
+    code = main(["fix", "--all", str(broken), "-o", str(tmp_path / "out"), "-q", "--no-cache"])
     err = capsys.readouterr().err
     assert code == 1, err
     assert "left as it was" in err and "no_mesh.urdf" in err and "link 'l'" in err
@@ -396,11 +396,11 @@ def test_links_left_for_the_environment_are_not_cached(tree, tmp_path, monkeypat
 
     monkeypatch.setattr(meshlib, "load_mesh", unreadable)
     cache = tmp_path / "c"
-    report = run_batch(collect_jobs([tree], tmp_path / "one"), FixOptions(),
+    report = run_batch(collect_jobs([tree], tmp_path / "one"), FixOptions(recompute="all"),
                        BatchSettings(cache_dir=cache))
     assert not report.failed and sum(bool(o.left) for o in report.outcomes) == 2
     monkeypatch.setattr(meshlib, "load_mesh", real)
-    report = run_batch(collect_jobs([tree], tmp_path / "two"), FixOptions(),
+    report = run_batch(collect_jobs([tree], tmp_path / "two"), FixOptions(recompute="all"),
                        BatchSettings(cache_dir=cache))
     assert report.file_hits == 1 and not any(o.left for o in report.outcomes)
 

@@ -34,7 +34,7 @@ def run_write_back(tmp_path: Path, fixture: str, main_file: str, *extra: str):
     originals = {p: p.read_bytes() for p in root.rglob("*") if p.is_file()}
     before = expand_xacro(root / main_file).document
     report, fixed = tmp_path / "report.yaml", tmp_path / "fixed.urdf"
-    code = main(["fix", str(root / main_file), "--write-back", "--write-back-report",
+    code = main(["fix", "--all", str(root / main_file), "--write-back", "--write-back-report",
                  str(report), "-o", str(fixed), "-q", *extra])
     assert code == 0
     return root, yaml.safe_load(report.read_text()), fixed.read_bytes(), originals, before
@@ -181,7 +181,7 @@ def test_nested_includes_literal_inertials_and_an_added_one(tmp_path):
 def test_in_place_on_xacro_writes_back_and_prints_no_urdf(tmp_path, capsys):
     root = tmp_path / "nested"
     shutil.copytree(DATA / "nested", root)
-    assert main(["fix", str(root / "rover.urdf.xacro"), "--in-place"]) == 0
+    assert main(["fix", "--all", str(root / "rover.urdf.xacro"), "--in-place"]) == 0
     out = capsys.readouterr().out
     assert "write-back: 3 link(s) written back, 0 reported, 0 unchanged" in out
     assert "<robot" not in out
@@ -193,7 +193,7 @@ def test_write_back_on_urdf_input_is_refused(tmp_path):
     path = tmp_path / "r.urdf"
     path.write_text('<robot name="r"><link name="a"><collision><geometry><box size="1 1 1"/>'
                     "</geometry></collision></link></robot>")
-    assert main(["fix", str(path), "--write-back", "-q"]) == 2
+    assert main(["fix", "--all", str(path), "--write-back", "-q"]) == 2
 
 
 def prepared(tmp_path: Path):
@@ -205,7 +205,7 @@ def prepared(tmp_path: Path):
     shutil.copytree(DATA / "limbs", root)
     path = root / "humanoid.urdf.xacro"
     robot, document = read_description(path)
-    result = fix_robot(robot, document, FixOptions())
+    result = fix_robot(robot, document, FixOptions(recompute="all"))
     exp = expand_xacro(path)
     plan = plan_write_back(path, exp, result.output, current_settings())
     return path, exp, result.output, plan

@@ -101,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
         atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
     if args.sarif is not None:
         atomic_write_bytes(args.sarif, json.dumps(sarif, indent=2).encode())
-    print_report(args, checked, doc, sarif)
+    print_report(args, checked, doc, sarif, plans)
     return code
 
 

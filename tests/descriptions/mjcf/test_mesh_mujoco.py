@@ -57,7 +57,7 @@ def test_mesh_bodies_match_mujoco_exact(tmp_path):
     _write_meshes(tmp_path / "assets")
     path = tmp_path / "meshes.xml"
     path.write_text(MODEL)
-    result = fix_file(path, FixOptions(mass="density"))
+    result = fix_file(path, FixOptions(recompute="all", mass="density"))
     model = compiled(path, exact_meshes=True)
     for r in result.links:
         mass, com, tensor = body_inertia(model, r.name)
@@ -73,7 +73,7 @@ def test_mujoco_default_mesh_inertia_overcounts_a_concave_mesh(tmp_path):
     _write_meshes(tmp_path / "assets")
     path = tmp_path / "meshes.xml"
     path.write_text(MODEL)
-    ours = fix_file(path, FixOptions(mass="density")).links[0].assembly.total.mass
+    ours = fix_file(path, FixOptions(recompute="all", mass="density")).links[0].assembly.total.mass
     legacy = body_inertia(compiled(path), "ring")[0]
     assert legacy > 1.2 * ours
 
@@ -100,7 +100,7 @@ def test_msh_meshes_match_mujoco_exact(tmp_path):
                     '<body name="box"><joint/><geom type="mesh" mesh="box"/></body>'
                     '<body name="cloud"><joint/><geom type="mesh" mesh="cloud"/></body>'
                     "</worldbody></mujoco>")
-    result = fix_file(path, FixOptions(mass="density"))
+    result = fix_file(path, FixOptions(recompute="all", mass="density"))
     model = compiled(path, exact_meshes=True)
     for r in result.links:
         mass, com, tensor = body_inertia(model, r.name)

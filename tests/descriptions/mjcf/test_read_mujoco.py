@@ -18,7 +18,7 @@ mujoco = pytest.importorskip("mujoco")
 RTOL = 1e-9
 
 
-BY_DENSITY = FixOptions(mass="density")
+BY_DENSITY = FixOptions(recompute="all", mass="density")
 
 
 def _check_against_mujoco(path, names=None, options=BY_DENSITY, exact_meshes=False,
@@ -101,8 +101,8 @@ def test_radian_and_euler_sequences_match_mujoco(tmp_path):
     deg = tmp_path / "deg.xml"
     deg.write_text("<mujoco><worldbody>" + body.format(n="b") + "</worldbody></mujoco>")
     rad = tmp_path / "xyz.xml"
-    a = fix_file(deg, FixOptions(mass="density")).links[0].assembly.total
-    b = fix_file(rad, FixOptions(mass="density")).links[0].assembly.total
+    a = fix_file(deg, FixOptions(recompute="all", mass="density")).links[0].assembly.total
+    b = fix_file(rad, FixOptions(recompute="all", mass="density")).links[0].assembly.total
     assert not np.allclose(a.inertia, b.inertia)
     _check_against_mujoco(deg)
 
@@ -141,7 +141,7 @@ DEFAULTS = """<mujoco>
 def test_default_classes_and_childclass_match_mujoco(tmp_path):
     path = tmp_path / "defaults.xml"
     path.write_text(DEFAULTS)
-    result, checked = _check_against_mujoco(path, options=FixOptions())
+    result, checked = _check_against_mujoco(path, options=FixOptions(recompute="all"))
     assert checked == 3
     robot, _ = read_description(path)
     base = robot.link("base")
@@ -208,7 +208,7 @@ def test_geom_problems_drop_the_geom_with_a_note(tmp_path):
         <geom type="sphere" size="0.1"/>
         <geom type="plane" size="1 1 1"/>
       </body></worldbody></mujoco>""")
-    result = fix_file(path, FixOptions(mass="density"))
+    result = fix_file(path, FixOptions(recompute="all", mass="density"))
     (link,) = result.links
     assert link.status == "recomputed"
     assert any("bad.xml:3 dropped" in w and "size" in w for w in link.warnings)
@@ -230,7 +230,7 @@ def test_geom_materials_weigh_a_kept_mass(tmp_path):
     from_geoms = tmp_path / "geoms.xml"
     from_geoms.write_text("<mujoco><worldbody>" + body.format(inertial="")
                           + "</worldbody></mujoco>")
-    total = fix_file(with_inertial, FixOptions()).links[0].assembly.total
+    total = fix_file(with_inertial, FixOptions(recompute="all")).links[0].assembly.total
     mass, com, tensor = body_inertia(compiled(from_geoms), "b")
     assert total.mass == pytest.approx(5.0, rel=1e-12)
     np.testing.assert_allclose(total.com, com, atol=1e-12)
@@ -243,7 +243,7 @@ def test_mass_density_uses_stated_densities_of_bodies_with_inertials(tmp_path):
     path.write_text('<mujoco><default><geom density="1"/></default><worldbody>'
                     '<body name="b"><joint/><inertial pos="0 0 0" mass="9" diaginertia="1 1 1"/>'
                     '<geom type="box" size=".1 .2 .3"/></body></worldbody></mujoco>')
-    total = fix_file(path, FixOptions(mass="density")).links[0].assembly.total
+    total = fix_file(path, FixOptions(recompute="all", mass="density")).links[0].assembly.total
     assert total.mass == pytest.approx(0.2 * 0.4 * 0.6, rel=1e-12)
-    kept = fix_file(path, FixOptions()).links[0].assembly.total
+    kept = fix_file(path, FixOptions(recompute="all")).links[0].assembly.total
     assert kept.mass == 9.0

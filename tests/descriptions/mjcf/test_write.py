@@ -47,7 +47,7 @@ def styled(tmp_path):
 
 
 def test_only_inertials_change_and_style_is_kept(styled):
-    result = fix_file(styled, FixOptions())
+    result = fix_file(styled, FixOptions(recompute="all"))
     assert result.changed
     assert strip_inertials(result.output) == strip_inertials(styled.read_bytes())
     spans = scan_bodies(result.output)
@@ -60,14 +60,14 @@ def test_only_inertials_change_and_style_is_kept(styled):
 
 
 def test_fix_is_idempotent(styled, tmp_path):
-    first = fix_file(styled, FixOptions())
+    first = fix_file(styled, FixOptions(recompute="all"))
     again = tmp_path / "again.xml"
     again.write_bytes(first.output)
-    assert fix_file(again, FixOptions()).output == first.output
+    assert fix_file(again, FixOptions(recompute="all")).output == first.output
 
 
 def test_output_compiles_with_explicit_inertials_to_the_computed_values(styled, tmp_path):
-    result = fix_file(styled, FixOptions(mass="density"))
+    result = fix_file(styled, FixOptions(recompute="all", mass="density"))
     out = tmp_path / "out.xml"
     out.write_bytes(result.output.replace(b"<mujoco model='styled'>",
                                           b"<mujoco model='styled'><compiler "
@@ -96,7 +96,7 @@ def test_bodies_of_included_files_are_computed_not_written(tmp_path):
     main = tmp_path / "main.xml"
     main.write_text('<mujoco><worldbody><body name="base"><geom size=".1"/>'
                     '<include file="arm.xml"/></body></worldbody></mujoco>')
-    result = fix_file(main, FixOptions())
+    result = fix_file(main, FixOptions(recompute="all"))
     by_name = {r.name: r for r in result.links}
     assert by_name["arm"].assembly is not None
     assert any("included file arm.xml" in w and "not written" in w
@@ -143,12 +143,12 @@ def test_a_body_that_cannot_be_computed_is_left_as_written(tmp_path, capsys):
                     '<body name="bad"><joint/><geom type="mesh" mesh="gone"/>'
                     '<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/></body>'
                     "</worldbody></mujoco>")
-    result = fix_file(path, FixOptions())
+    result = fix_file(path, FixOptions(recompute="all"))
     status = {r.name: r.status for r in result.links}
     assert status == {"ok": "recomputed", "bad": "left"}
     assert "gone.stl" in result.left[0].reason
     assert b'<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>' in result.output
     out = tmp_path / "out.xml"
-    assert main(["fix", str(path), "-o", str(out), "-q"]) == 1
+    assert main(["fix", "--all", str(path), "-o", str(out), "-q"]) == 1
     assert "link 'bad'" in capsys.readouterr().err
     assert out.read_bytes() == result.output

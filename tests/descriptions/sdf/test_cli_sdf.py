@@ -27,7 +27,8 @@ def test_fix_world_file_isolates_links_and_reports_includes(tmp_path, capsys):
     src = tmp_path / "scene.world"
     src.write_bytes(WORLD)
     out = tmp_path / "out.world"
-    code = main(["fix", str(src), "-o", str(out), "-q", "--json", str(tmp_path / "r.json")])
+    code = main(["fix", "--all", str(src), "-o", str(out), "-q", "--json",
+                 str(tmp_path / "r.json")])
     assert code == 1  # written, one link left as it was
     err = capsys.readouterr().err
     assert "model://ground_plane" in err and "not processed" in err
@@ -43,5 +44,5 @@ def test_keep_auto_and_detection_by_root(tmp_path):
     src = tmp_path / "model.xml"  # no .sdf suffix: the root element decides
     src.write_bytes(WORLD)
     out = tmp_path / "out.sdf"
-    assert main(["fix", str(src), "-o", str(out), "-q", "--keep-auto"]) == 1
+    assert main(["fix", "--all", str(src), "-o", str(out), "-q", "--keep-auto"]) == 1
     assert '<inertial auto="true"/>' in out.read_text()
