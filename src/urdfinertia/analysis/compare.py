@@ -178,11 +178,11 @@ def compare_raw(link: str, a: RawInertial | None, b: RawInertial | None, *,
     mp_a = a.mass_properties() if a is not None else None
     mp_b = b.mass_properties() if b is not None else None
     size = link_size(b) or link_size(a)
-    common = dict(size=size, moments_a=_moments(a), moments_b=_moments(b))
+    moments_a, moments_b = _moments(a), _moments(b)
     if a is None or b is None:
         note = missing_a if a is None else missing_b
         return LinkComparison(link, mp_a, mp_b, None, None, None, None, None, "missing", note,
-                              **common)
+                              size=size, moments_a=moments_a, moments_b=moments_b)
     ratio = b.mass / a.mass if np.isfinite(a.mass) and a.mass > 0 and np.isfinite(b.mass) \
         else None
     dist = float(np.linalg.norm(b.com - a.com)) if a.com_ok and b.com_ok else None
@@ -206,7 +206,7 @@ def compare_raw(link: str, a: RawInertial | None, b: RawInertial | None, *,
         verdict = "differs" if beyond else "ok"
         note = ("beyond tolerance: " + ", ".join(beyond)) if beyond else ""
     return LinkComparison(link, mp_a, mp_b, ratio, dist, rel, ierr, angle, verdict, note,
-                          **common)
+                          size=size, moments_a=moments_a, moments_b=moments_b)
 
 
 # --- jobs ----------------------------------------------------------------------------
@@ -287,9 +287,10 @@ def summary(comparisons: Sequence[LinkComparison], worst: int = 3) -> dict[str, 
         "worst": {},
     }
     for m in ("com_distance_rel", "inertia_rel_error", "axis_angle_deg"):
-        ranked = sorted((c for c in comparisons if getattr(c, m) is not None
-                         and math.isfinite(getattr(c, m))),
-                        key=lambda c, m=m: -getattr(c, m))
+        values = [(c, getattr(c, m)) for c in comparisons]
+        ranked = [c for c, v in sorted(((c, v) for c, v in values
+                                        if v is not None and math.isfinite(v)),
+                                       key=lambda cv: -cv[1])]
         out["worst"][m] = [[c.link, getattr(c, m)] for c in ranked[:worst]]
     return out
 

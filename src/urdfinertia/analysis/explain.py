@@ -131,7 +131,7 @@ def explain_link(robot: Robot, name: str, options: FixOptions,
         raise UrdfInertiaError(f"no link named '{name}' (links: {', '.join(names)})",
                                file=path)
     if options.spec is not None:
-        options.spec.check_links(robot)  # type: ignore[attr-defined]
+        options.spec.check_links(robot)
     if meshes is None:
         meshes = MeshLibrary(options.package_dirs, options.max_faces)
     link = robot.link(name)

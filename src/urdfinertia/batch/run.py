@@ -377,17 +377,20 @@ def _write(job: FileJob, outcome: FileOutcome, settings: BatchSettings) -> FileO
     if not in_place and job.output is not None and not settings.keep_mesh_paths:
         from urdfinertia.descriptions.formats import relocate_references
 
-        document, rewritten = relocate_references(outcome.document, job.source, job.output)
-        outcome = dataclasses.replace(outcome, document=document, rewritten=rewritten)
+        moved, rewritten = relocate_references(outcome.document, job.source, job.output)
+        outcome = dataclasses.replace(outcome, document=moved, rewritten=rewritten)
+    document = outcome.document
+    if document is None:  # (checked above; relocation keeps a document)
+        return outcome
     try:
         if in_place:
             if outcome.changed:
-                write_in_place(job.source, outcome.document)
+                write_in_place(job.source, document)
             return dataclasses.replace(outcome, output=job.source, document=None)
         if job.output is None:
             return outcome
         job.output.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write_bytes(job.output, outcome.document)
+        atomic_write_bytes(job.output, document)
     except OSError as exc:
         err = OutputError(f"cannot write: {exc.strerror or exc}", file=job.output)
         return dataclasses.replace(outcome, error=str(err), document=None)

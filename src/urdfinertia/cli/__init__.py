@@ -19,6 +19,7 @@ import sys
 import traceback
 import warnings
 from collections.abc import Sequence
+from typing import Any, NoReturn
 
 from urdfinertia import __version__
 from urdfinertia.errors import UrdfInertiaError
@@ -97,7 +98,7 @@ EXIT_INTERNAL = 3
 class OneLineArgumentParser(argparse.ArgumentParser):
     """argparse, but a usage error is one line (``--help`` still shows the usage)."""
 
-    def error(self, message: str):  # type: ignore[override]
+    def error(self, message: str) -> NoReturn:
         self.exit(EXIT_ERROR, f"urdf-inertia: error: {self.prog}: {message} (see --help)\n")
 
 
@@ -120,7 +121,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 # numpy's overflow/invalid-value warnings would add lines to stderr; the
                 # results they concern are checked (finite, physical) where they are made
                 warnings.simplefilter("ignore", RuntimeWarning)
-            return int(mods[args.command].run(args))  # type: ignore[attr-defined]
+            command: Any = mods[args.command]
+            return int(command.run(args))
     except UrdfInertiaError as exc:
         return _fail(args, f"error: {_one_line(str(exc))}", EXIT_ERROR)
     except MemoryError:

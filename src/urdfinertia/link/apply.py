@@ -58,7 +58,7 @@ def apply_decision(link: Link, decision: Decision, options: FixOptions, meshes: 
     if r.assembly is None:  # no geometry (--all or --links): as before the policy
         return replace(r, decision=r.warnings[0] if r.warnings else "", kept=written)
     assembly = r.assembly
-    kept = ("mass",) if assembly.mass_source.kind == "kept" else ()
+    kept: tuple[str, ...] = ("mass",) if assembly.mass_source.kind == "kept" else ()
     offset = None
     if decision.keep_com and kept and link.inertial is not None:
         com = RawInertial.from_inertial(link.inertial).com
@@ -87,12 +87,12 @@ def _repair(link: Link, decision: Decision, options: FixOptions) -> LinkResult:
     """
     raw = RawInertial.from_inertial(link.inertial) if link.inertial is not None else None
     if raw is None or (raw.mass == 0 and not raw.inertia.any()):
-        r = MIN_BODY_RADIUS
-        body = MassProperties(MIN_BODY_MASS, np.zeros(3), _sphere(MIN_BODY_MASS, r))
+        radius = MIN_BODY_RADIUS
+        body = MassProperties(MIN_BODY_MASS, np.zeros(3), _sphere(MIN_BODY_MASS, radius))
         return LinkResult(link.name, "repaired", "none", Assembly(body, (), MassSource(
             "kept", MIN_BODY_MASS)), link.inertial, decision=decision.describe() + (
-            f"; a moving body needs mass: given {MIN_BODY_MASS:g} kg, a {100 * r:g} cm sphere"),
-            derived=VALUES)
+            f"; a moving body needs mass: given {MIN_BODY_MASS:g} kg, a {100 * radius:g} cm "
+            "sphere"), derived=VALUES)
     r = repair_link(link)
     if r.status == "repaired" and r.assembly is not None:
         total = r.assembly.total

@@ -86,9 +86,9 @@ def assemble(parts: Sequence[Part], source: MassSource) -> Assembly:
         target = pinned_mass if pinned_mass is not None else free_density * unit_total.mass
         total = unit_total.with_mass(target)
         k = target / unit_total.mass
-        results = tuple(PartResult(p, p.in_link(p.volume * k), k) for p in parts)
-        return Assembly(total, results, source)
-    results = []
+        uniform = tuple(PartResult(p, p.in_link(p.volume * k), k) for p in parts)
+        return Assembly(total, uniform, source)
+    results: list[PartResult] = []
     for p in parts:
         if p.mass is not None:
             mass, rho = p.mass, p.mass / p.volume

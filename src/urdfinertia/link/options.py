@@ -17,6 +17,7 @@ from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
 
 if TYPE_CHECKING:
     from urdfinertia.descriptions.model import GeometryRef, Link
+    from urdfinertia.link.spec import Spec
 
 GEOMETRY_MODES = ("auto", "collision", "visual")
 MASS_MODES = ("keep", "density")
@@ -46,7 +47,7 @@ class FixOptions:
     density: float = 1000.0
     package_dirs: Mapping[str, Path] = field(default_factory=dict)
     max_faces: int = DEFAULT_MAX_FACES
-    spec: object | None = None  # urdfinertia.link.spec.Spec, when given
+    spec: Spec | None = None  # a decomposition spec, when given
     strict: bool = False
     #: leave inertials the description asks its simulator to compute (SDF auto="true")
     keep_auto: bool = False

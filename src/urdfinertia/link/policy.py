@@ -117,7 +117,7 @@ def plan_robot(robot: Robot, options: FixOptions, meshes: MeshLibrary,
 
 def _named_in_spec(options: FixOptions, name: str) -> bool:
     spec = options.spec
-    return spec is not None and spec.link(name) is not None  # type: ignore[attr-defined]
+    return spec is not None and spec.link(name) is not None
 
 
 def decide_link(link: Link, robot: Robot, kin: Kinematics, options: FixOptions,

@@ -32,7 +32,8 @@ def fix_console(stderr: bool = False) -> Console:
 def _fix_columns(width: int | None) -> list[str]:
     if width is None:
         return [c for c, _ in _FIX_COLUMNS]
-    keep, used = [], 12
+    keep: list[str] = []
+    used = 12
     for name, need in _FIX_COLUMNS:
         if used + need <= width or not keep:
             keep.append(name)

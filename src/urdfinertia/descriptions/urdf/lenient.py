@@ -66,6 +66,7 @@ def _neutralise(inertial_el) -> dict[str, tuple[float, ...]]:
     were."""
     found: dict[str, tuple[float, ...]] = {}
     for child in inertial_el:
+        keys: tuple[str, ...]
         if child.tag == "mass":
             keys = ("value",)
         elif child.tag == "inertia":

@@ -100,16 +100,16 @@ def inertial_sign_problems(robot: Robot) -> list[Problem]:
         inertial = link.inertial
         if inertial is None:
             continue
-        where = {"line": inertial.line, "link": link.name, "element": "inertial",
-                 "kind": "ignored"}
+        def ignored(cause: str, inertial: Inertial = inertial, link: Link = link) -> Problem:
+            return Problem("negative-inertial", cause, line=inertial.line, link=link.name,
+                           element="inertial", kind="ignored")
+
         if inertial.mass < 0:
-            out.append(Problem("negative-inertial",
-                               f"<mass value=\"{inertial.mass:g}\"> is negative", **where))
+            out.append(ignored(f"<mass value=\"{inertial.mass:g}\"> is negative"))
         for key in ("ixx", "iyy", "izz"):
             value = getattr(inertial, key)
             if value < -NEGATIVE_MOMENT_ROUNDOFF:
-                out.append(Problem("negative-inertial",
-                                   f"<inertia {key}=\"{value:g}\"> is negative", **where))
+                out.append(ignored(f"<inertia {key}=\"{value:g}\"> is negative"))
     return out
 
 
@@ -281,7 +281,8 @@ def _inertial(link_el: etree._Element, ctx: _Ctx) -> Inertial | None:
                   for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
     else:
         values = [0.0] * 6
-    return Inertial(_origin(el, ctx), mass, *values, line=el.sourceline)
+    ixx, ixy, ixz, iyy, iyz, izz = values
+    return Inertial(_origin(el, ctx), mass, ixx, ixy, ixz, iyy, iyz, izz, line=el.sourceline)
 
 
 def _link(el: etree._Element, path: Path, problems: list[Problem]) -> Link:
