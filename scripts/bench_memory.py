@@ -73,7 +73,7 @@ def child(urdf: str, out: str) -> int:
 
     from urdfinertia.cli import main as cli_main
 
-    code = cli_main(["fix", urdf, "-o", out, "-q", "--no-cache"])
+    code = cli_main(["fix", "--all", urdf, "-o", out, "-q", "--no-cache"])
     print(json.dumps({"peak_mb": own_peak_mb()}))
     return code
 

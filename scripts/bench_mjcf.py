@@ -88,8 +88,8 @@ def run_file(path: Path, meshes: MeshLibrary) -> dict:
         return row
     row["input_stable"] = stable(model_in)
     try:
-        kept = fix_file(path, FixOptions(), meshes)
-        geometric = fix_file(path, FixOptions(mass="density"), meshes)
+        kept = fix_file(path, FixOptions(recompute="all"), meshes)
+        geometric = fix_file(path, FixOptions(mass="density", recompute="all"), meshes)
     except Exception as exc:  # noqa: BLE001 - the benchmark records every failure
         row["fix"] = f"{type(exc).__name__}: {exc}"[:160]
         return row

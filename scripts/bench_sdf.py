@@ -67,7 +67,7 @@ def packages_of(path: Path) -> dict[str, str]:
 def run_ours(src: Path, out: Path) -> tuple[int, str]:
     err = io.StringIO()
     with contextlib.redirect_stderr(err):
-        code = cli_main(["fix", str(src), "-o", str(out), "-q"])
+        code = cli_main(["fix", "--all", str(src), "-o", str(out), "-q"])
     return code, err.getvalue().strip()
 
 
