@@ -19,14 +19,14 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from urdfinertia.descriptions.urdf.write import (
-    _NAME_ATTR,
-    _TOKEN,
-    _attribute_text,
-    _line_indent,
-    _skip_declaration,
+from urdfinertia.descriptions.splice import (
+    NAME_ATTR,
+    TOKEN,
+    attribute_text,
     clean,
     format_float,
+    line_indent,
+    skip_declaration,
 )
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
@@ -53,7 +53,7 @@ def scan_bodies(data: bytes) -> dict[str, BodySpan]:
     pos = 0
     n = len(data)
     while True:
-        m = _TOKEN.search(data, pos)
+        m = TOKEN.search(data, pos)
         if m is None:
             break
         lt = m.start()
@@ -69,7 +69,7 @@ def scan_bodies(data: bytes) -> dict[str, BodySpan]:
                 end = data.find(b"?>", lt)
                 pos = n if end < 0 else end + 2
             elif declaration:
-                pos = _skip_declaration(data, lt)
+                pos = skip_declaration(data, lt)
             else:
                 raise UrdfError(f"cannot locate tag at byte {lt}")
             continue
@@ -83,7 +83,7 @@ def scan_bodies(data: bytes) -> dict[str, BodySpan]:
         parent = stack[-1][1] if stack else None
         if parent is not None:
             if parent["first_child_indent"] is None:
-                parent["first_child_indent"] = _line_indent(data, lt)
+                parent["first_child_indent"] = line_indent(data, lt)
                 parent["first_child_inline"] = b"\n" not in data[parent["start_tag_end"]:lt]
             if name == b"inertial" and parent["inertial"] is None:
                 if selfclose:
@@ -99,14 +99,14 @@ def scan_bodies(data: bytes) -> dict[str, BodySpan]:
         body = None
         if name == b"body":
             ordinal += 1
-            am = _NAME_ATTR.search(attrs)
+            am = NAME_ATTR.search(attrs)
             raw = (am.group(1) if am.group(1) is not None else am.group(2)) if am else b""
             body = {
-                "name": _attribute_text(raw) or f"body#{ordinal}",
+                "name": attribute_text(raw) or f"body#{ordinal}",
                 "start_tag_end": pos,
                 "inertial": None,
                 "first_child_indent": None,
-                "body_indent": _line_indent(data, lt),
+                "body_indent": line_indent(data, lt),
                 "self_closing": bool(selfclose),
                 "first_child_inline": False,
             }

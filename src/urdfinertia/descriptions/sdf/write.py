@@ -17,14 +17,14 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from urdfinertia.descriptions.urdf.write import (
-    _NAME_ATTR,
-    _TOKEN,
-    _attribute_text,
-    _line_indent,
-    _skip_declaration,
+from urdfinertia.descriptions.splice import (
+    NAME_ATTR,
+    TOKEN,
+    attribute_text,
     clean,
     format_float,
+    line_indent,
+    skip_declaration,
 )
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
@@ -47,9 +47,9 @@ class _Node:
     children: list[_Node] = field(default_factory=list)
 
     def name(self) -> str:
-        m = _NAME_ATTR.search(self.attrs)
+        m = NAME_ATTR.search(self.attrs)
         raw = (m.group(1) if m.group(1) is not None else m.group(2)) if m else b""
-        return _attribute_text(raw)
+        return attribute_text(raw)
 
     def kids(self, tag: bytes) -> list[_Node]:
         return [c for c in self.children if c.tag == tag]
@@ -65,7 +65,7 @@ def scan_elements(data: bytes) -> _Node:
     cur = top
     pos, n = 0, len(data)
     while True:
-        m = _TOKEN.search(data, pos)
+        m = TOKEN.search(data, pos)
         if m is None:
             break
         lt = m.start()
@@ -81,7 +81,7 @@ def scan_elements(data: bytes) -> _Node:
                 end = data.find(b"?>", lt)
                 pos = n if end < 0 else end + 2
             elif declaration:
-                pos = _skip_declaration(data, lt)
+                pos = skip_declaration(data, lt)
             else:
                 raise UrdfError(f"cannot locate tag at byte {lt}")
             continue
@@ -128,7 +128,7 @@ def link_nodes(data: bytes) -> dict[str, _Node]:
 
 def _step(data: bytes, outer: bytes, node: _Node) -> bytes:
     for child in node.children:
-        indent = _line_indent(data, child.lt)
+        indent = line_indent(data, child.lt)
         if len(indent) > len(outer) and indent.startswith(outer):
             return indent[len(outer):]
     return b"  "
@@ -150,7 +150,7 @@ def inertial_lines(props: MassProperties, size: float, step: bytes) -> list[byte
 
 def _removal(data: bytes, node: _Node) -> tuple[int, int]:
     """Span of a child element, with its own line's indent and line break when alone."""
-    indent = _line_indent(data, node.lt)
+    indent = line_indent(data, node.lt)
     start = node.lt - len(indent)
     line_start = data.rfind(b"\n", 0, node.lt) + 1
     if start == line_start and line_start > 0:
@@ -162,7 +162,7 @@ def _removal(data: bytes, node: _Node) -> tuple[int, int]:
 
 def _edits_for(data: bytes, link: _Node, props: MassProperties, size: float,
                newline: bytes) -> list[tuple[int, int, bytes]]:
-    link_indent = _line_indent(data, link.lt)
+    link_indent = line_indent(data, link.lt)
     step = _step(data, link_indent, link)
     inertials = link.kids(b"inertial")
     if link.self_closing:
@@ -173,13 +173,13 @@ def _edits_for(data: bytes, link: _Node, props: MassProperties, size: float,
                  + link_indent + b"</link>")]
     if not inertials:
         first = link.children[0] if link.children else None
-        indent = _line_indent(data, first.lt) if first is not None else b""
+        indent = line_indent(data, first.lt) if first is not None else b""
         if not indent:
             indent = link_indent + step
         return [(link.start_end, link.start_end,
                  newline + indent + _whole(props, size, indent, step, newline))]
     inertial = inertials[0]
-    indent = _line_indent(data, inertial.lt)
+    indent = line_indent(data, inertial.lt)
     if inertial.self_closing or not inertial.end > 0:
         return [(inertial.lt, inertial.end, _whole(props, size, indent, step, newline))]
     edits = []
@@ -188,7 +188,7 @@ def _edits_for(data: bytes, link: _Node, props: MassProperties, size: float,
     inner = indent + step
     for child in inertial.children:
         if child.tag in _REPLACED:
-            child_indent = _line_indent(data, child.lt)
+            child_indent = line_indent(data, child.lt)
             if child_indent:
                 inner = child_indent
             break

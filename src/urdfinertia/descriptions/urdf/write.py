@@ -12,41 +12,17 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-import numpy as np
-
+from urdfinertia.descriptions.splice import (
+    NAME_ATTR,
+    TOKEN,
+    attribute_text,
+    clean,
+    format_float,
+    line_indent,
+    skip_declaration,
+)
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
-
-_TAG = re.compile(
-    rb"<(/?)([^\s/>!?]+)((?:\s+[^\s=/>]+\s*=\s*(?:\"[^\"]*\"|'[^']*'))*)\s*(/?)>", re.DOTALL
-)
-_NAME_ATTR = re.compile(rb"(?:^|\s)name\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
-#: XML's predefined entities (xml.sax.saxutils would import urllib and http on every run)
-_ENTITIES = {"lt": "<", "gt": ">", "quot": '"', "apos": "'", "amp": "&"}
-_REFERENCE = re.compile(r"&(#x[0-9a-fA-F]+|#[0-9]+|lt|gt|quot|apos|amp);")
-
-
-def _decode_reference(match: re.Match[str]) -> str:
-    ref = match.group(1)
-    if ref.startswith("#x"):
-        return chr(int(ref[2:], 16))
-    if ref.startswith("#"):
-        return chr(int(ref[1:]))
-    return _ENTITIES[ref]
-
-
-def _attribute_text(raw: bytes) -> str:
-    """An attribute value as lxml reports it: character and entity references decoded in
-    one pass (so ``&#38;lt;`` stays ``&lt;``)."""
-    return _REFERENCE.sub(_decode_reference, raw.decode("utf-8"))
-
-
-_OFF_DIAGONAL = ~np.eye(3, dtype=bool)
-_OFF_DIAGONAL.setflags(write=False)
-
-#: Off-diagonal products and CoM components smaller than this fraction of the largest
-#: principal moment (or of the geometry's size) are round-off and written as 0.
-NOISE_RTOL = 1e-12
 
 
 @dataclass(frozen=True)
@@ -61,26 +37,10 @@ class LinkSpan:
     self_closing: bool
 
 
-def _line_indent(data: bytes, pos: int) -> bytes:
-    line_start = data.rfind(b"\n", 0, pos) + 1
-    prefix = data[line_start:pos]
-    return prefix if prefix.strip() == b"" else b""
-
-
-#: The next markup at or after a position, classified in the order the scanner tests:
-#: 1 comment, 2 CDATA, 3 processing instruction, 4 other declaration, 5-8 a tag (as
-#: ``_TAG``); nothing captured: a ``<`` that starts none of them.
-_TOKEN = re.compile(
-    rb"<(?:(!--)|(!\[CDATA\[)|(\?)|(!)"
-    rb"|(/?)([^\s/>!?]+)((?:\s+[^\s=/>]+\s*=\s*(?:\"[^\"]*\"|'[^']*'))*)\s*(/?)>)?",
-    re.DOTALL,
-)
-
-
 def scan_links(data: bytes) -> dict[str, LinkSpan]:
     """Find every ``<robot>``-level ``<link>`` and its ``<inertial>`` span.
 
-    One regular-expression search per piece of markup (``_TOKEN``) finds the next ``<`` and
+    One regular-expression search per piece of markup (``TOKEN``) finds the next ``<`` and
     what it starts; comments, CDATA, processing instructions and declarations are skipped.
     """
     spans: dict[str, LinkSpan] = {}
@@ -88,7 +48,7 @@ def scan_links(data: bytes) -> dict[str, LinkSpan]:
     pos = 0
     n = len(data)
     current: dict | None = None
-    search = _TOKEN.search
+    search = TOKEN.search
     while True:
         m = search(data, pos)
         if m is None:
@@ -106,7 +66,7 @@ def scan_links(data: bytes) -> dict[str, LinkSpan]:
                 end = data.find(b"?>", lt)
                 pos = n if end < 0 else end + 2
             elif declaration:
-                pos = _skip_declaration(data, lt)
+                pos = skip_declaration(data, lt)
             else:
                 raise UrdfError(f"cannot locate tag at byte {lt}")
             continue
@@ -120,14 +80,14 @@ def scan_links(data: bytes) -> dict[str, LinkSpan]:
             continue
         depth = len(stack)
         if depth == 1 and name == b"link":
-            am = _NAME_ATTR.search(attrs)
+            am = NAME_ATTR.search(attrs)
             raw = (am.group(1) if am.group(1) is not None else am.group(2)) if am else b""
             current = {
-                "name": _attribute_text(raw),
+                "name": attribute_text(raw),
                 "start_tag_end": pos,
                 "inertial": None,
                 "first_child_indent": None,
-                "link_indent": _line_indent(data, lt),
+                "link_indent": line_indent(data, lt),
                 "self_closing": bool(selfclose),
             }
             if selfclose:
@@ -136,7 +96,7 @@ def scan_links(data: bytes) -> dict[str, LinkSpan]:
                 continue
         elif depth == 2 and current is not None:
             if current["first_child_indent"] is None:
-                current["first_child_indent"] = _line_indent(data, lt)
+                current["first_child_indent"] = line_indent(data, lt)
             if name == b"inertial" and current["inertial"] is None:
                 if selfclose:
                     current["inertial"] = (lt, pos)
@@ -155,41 +115,6 @@ def scan_links(data: bytes) -> dict[str, LinkSpan]:
 
 def _finish(spans: dict[str, LinkSpan], current: dict) -> None:
     spans.setdefault(current["name"], LinkSpan(**current))
-
-
-def _skip_declaration(data: bytes, lt: int) -> int:
-    depth = 0
-    i = lt + 2
-    while i < len(data):
-        c = data[i : i + 1]
-        if c == b"[":
-            depth += 1
-        elif c == b"]":
-            depth -= 1
-        elif c == b">" and depth <= 0:
-            return i + 1
-        i += 1
-    return len(data)
-
-
-def format_float(value: float) -> str:
-    """Shortest text that reads back to the same float (``repr``), never ``-0``."""
-    value = float(value)
-    if value == 0.0:
-        return "0"
-    text = repr(value)
-    return text[:-2] if text.endswith(".0") else text
-
-
-def clean(props: MassProperties, size: float) -> tuple[np.ndarray, np.ndarray]:
-    """CoM and tensor with round-off noise set to exactly 0 (see ``NOISE_RTOL``)."""
-    com = np.array(props.com)
-    com[np.abs(com) < NOISE_RTOL * max(size, 1e-300)] = 0.0
-    inertia = np.array(props.inertia)
-    scale = float(np.abs(np.diag(inertia)).max())
-    off = _OFF_DIAGONAL
-    inertia[off & (np.abs(inertia) < NOISE_RTOL * scale)] = 0.0
-    return com, inertia
 
 
 _COMMENT = re.compile(rb"<!--.*?-->", re.DOTALL)
@@ -272,7 +197,7 @@ def patch_inertials(data: bytes, new: Mapping[str, tuple[MassProperties, float]]
             edits.append((slash, span.start_tag_end, text))
         elif span.inertial is not None:
             start, end = span.inertial
-            indent = _line_indent(data, start)
+            indent = line_indent(data, start)
             comments = inertial_comments(data[start:end])
             edits.append((start, end, inertial_xml(props, size, indent, step, newline,
                                                    comments)))

@@ -1,0 +1,96 @@
+"""The byte-splicing writers' shared pieces: one scanner grammar, one number format.
+
+Every description format writes new inertials by splicing the document's own bytes
+(:mod:`.urdf.write`, :mod:`.mjcf.write`, :mod:`.sdf.write`): they find element spans with
+:data:`TOKEN` (comments, CDATA, processing instructions and declarations told apart from
+tags), read a ``name`` attribute as lxml would (:func:`attribute_text`), indent like the
+surrounding lines (:func:`line_indent`) and write each number in its shortest round-trip
+form with round-off noise cleared (:func:`format_float`, :func:`clean`).
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from urdfinertia.inertia.massprops import MassProperties
+
+NAME_ATTR = re.compile(rb"(?:^|\s)name\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
+#: XML's predefined entities (xml.sax.saxutils would import urllib and http on every run)
+_ENTITIES = {"lt": "<", "gt": ">", "quot": '"', "apos": "'", "amp": "&"}
+_REFERENCE = re.compile(r"&(#x[0-9a-fA-F]+|#[0-9]+|lt|gt|quot|apos|amp);")
+
+
+def _decode_reference(match: re.Match[str]) -> str:
+    ref = match.group(1)
+    if ref.startswith("#x"):
+        return chr(int(ref[2:], 16))
+    if ref.startswith("#"):
+        return chr(int(ref[1:]))
+    return _ENTITIES[ref]
+
+
+def attribute_text(raw: bytes) -> str:
+    """An attribute value as lxml reports it: character and entity references decoded in
+    one pass (so ``&#38;lt;`` stays ``&lt;``)."""
+    return _REFERENCE.sub(_decode_reference, raw.decode("utf-8"))
+
+
+_OFF_DIAGONAL = ~np.eye(3, dtype=bool)
+_OFF_DIAGONAL.setflags(write=False)
+
+#: Off-diagonal products and CoM components smaller than this fraction of the largest
+#: principal moment (or of the geometry's size) are round-off and written as 0.
+NOISE_RTOL = 1e-12
+
+
+def line_indent(data: bytes, pos: int) -> bytes:
+    line_start = data.rfind(b"\n", 0, pos) + 1
+    prefix = data[line_start:pos]
+    return prefix if prefix.strip() == b"" else b""
+
+
+#: The next markup at or after a position, classified in the order the scanner tests:
+#: 1 comment, 2 CDATA, 3 processing instruction, 4 other declaration, 5-8 a tag (as
+#: a tag); nothing captured: a ``<`` that starts none of them.
+TOKEN = re.compile(
+    rb"<(?:(!--)|(!\[CDATA\[)|(\?)|(!)"
+    rb"|(/?)([^\s/>!?]+)((?:\s+[^\s=/>]+\s*=\s*(?:\"[^\"]*\"|'[^']*'))*)\s*(/?)>)?",
+    re.DOTALL,
+)
+
+
+def skip_declaration(data: bytes, lt: int) -> int:
+    depth = 0
+    i = lt + 2
+    while i < len(data):
+        c = data[i : i + 1]
+        if c == b"[":
+            depth += 1
+        elif c == b"]":
+            depth -= 1
+        elif c == b">" and depth <= 0:
+            return i + 1
+        i += 1
+    return len(data)
+
+
+def format_float(value: float) -> str:
+    """Shortest text that reads back to the same float (``repr``), never ``-0``."""
+    value = float(value)
+    if value == 0.0:
+        return "0"
+    text = repr(value)
+    return text[:-2] if text.endswith(".0") else text
+
+
+def clean(props: MassProperties, size: float) -> tuple[np.ndarray, np.ndarray]:
+    """CoM and tensor with round-off noise set to exactly 0 (see ``NOISE_RTOL``)."""
+    com = np.array(props.com)
+    com[np.abs(com) < NOISE_RTOL * max(size, 1e-300)] = 0.0
+    inertia = np.array(props.inertia)
+    scale = float(np.abs(np.diag(inertia)).max())
+    off = _OFF_DIAGONAL
+    inertia[off & (np.abs(inertia) < NOISE_RTOL * scale)] = 0.0
+    return com, inertia
