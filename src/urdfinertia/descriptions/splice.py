@@ -14,6 +14,7 @@ import re
 
 import numpy as np
 
+from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
 
 NAME_ATTR = re.compile(rb"(?:^|\s)name\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
@@ -94,3 +95,35 @@ def clean(props: MassProperties, size: float) -> tuple[np.ndarray, np.ndarray]:
     off = _OFF_DIAGONAL
     inertia[off & (np.abs(inertia) < NOISE_RTOL * scale)] = 0.0
     return com, inertia
+
+
+def next_tag(data: bytes, pos: int) -> re.Match[bytes] | None:
+    """The next start or end tag at or after ``pos`` (None at the end of the document).
+
+    Comments, CDATA sections, processing instructions and declarations (a DOCTYPE with its
+    internal subset) are skipped whole, so a ``<link>`` inside any of them is not a tag.
+    Groups 5-8 of the match: "/" of an end tag, the name, the attributes, "/" of an empty
+    element tag.
+    """
+    n = len(data)
+    while True:
+        m = TOKEN.search(data, pos)
+        if m is None:
+            return None
+        if m.group(6) is not None:
+            return m
+        lt = m.start()
+        comment, cdata, pi, declaration = m.group(1, 2, 3, 4)
+        if comment:
+            end = data.find(b"-->", lt + 4)
+            pos = n if end < 0 else end + 3
+        elif cdata:
+            end = data.find(b"]]>", lt)
+            pos = n if end < 0 else end + 3
+        elif pi:
+            end = data.find(b"?>", lt)
+            pos = n if end < 0 else end + 2
+        elif declaration:
+            pos = skip_declaration(data, lt)
+        else:
+            raise UrdfError(f"cannot locate tag at byte {lt}")

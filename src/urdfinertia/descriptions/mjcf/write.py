@@ -21,12 +21,11 @@ from dataclasses import dataclass
 
 from urdfinertia.descriptions.splice import (
     NAME_ATTR,
-    TOKEN,
     attribute_text,
     clean,
     format_float,
     line_indent,
-    skip_declaration,
+    next_tag,
 )
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
@@ -51,28 +50,12 @@ def scan_bodies(data: bytes) -> dict[str, BodySpan]:
     stack: list[tuple[bytes, dict | None]] = []
     ordinal = 0
     pos = 0
-    n = len(data)
     while True:
-        m = TOKEN.search(data, pos)
+        m = next_tag(data, pos)
         if m is None:
             break
         lt = m.start()
-        comment, cdata, pi, declaration, closing, name, attrs, selfclose = m.groups()
-        if name is None:
-            if comment:
-                end = data.find(b"-->", lt + 4)
-                pos = n if end < 0 else end + 3
-            elif cdata:
-                end = data.find(b"]]>", lt)
-                pos = n if end < 0 else end + 3
-            elif pi:
-                end = data.find(b"?>", lt)
-                pos = n if end < 0 else end + 2
-            elif declaration:
-                pos = skip_declaration(data, lt)
-            else:
-                raise UrdfError(f"cannot locate tag at byte {lt}")
-            continue
+        closing, name, attrs, selfclose = m.group(5, 6, 7, 8)
         pos = m.end()
         if closing:
             if stack and stack[-1][0] == name:

@@ -19,12 +19,11 @@ from dataclasses import dataclass, field
 
 from urdfinertia.descriptions.splice import (
     NAME_ATTR,
-    TOKEN,
     attribute_text,
     clean,
     format_float,
     line_indent,
-    skip_declaration,
+    next_tag,
 )
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
@@ -63,28 +62,13 @@ def scan_elements(data: bytes) -> _Node:
     """The document's element tree with byte spans (a root node holding the top element)."""
     top = _Node(b"", 0, 0, b"", False, None)
     cur = top
-    pos, n = 0, len(data)
+    pos = 0
     while True:
-        m = TOKEN.search(data, pos)
+        m = next_tag(data, pos)
         if m is None:
             break
         lt = m.start()
-        comment, cdata, pi, declaration, closing, name, attrs, selfclose = m.groups()
-        if name is None:
-            if comment:
-                end = data.find(b"-->", lt + 4)
-                pos = n if end < 0 else end + 3
-            elif cdata:
-                end = data.find(b"]]>", lt)
-                pos = n if end < 0 else end + 3
-            elif pi:
-                end = data.find(b"?>", lt)
-                pos = n if end < 0 else end + 2
-            elif declaration:
-                pos = skip_declaration(data, lt)
-            else:
-                raise UrdfError(f"cannot locate tag at byte {lt}")
-            continue
+        closing, name, attrs, selfclose = m.group(5, 6, 7, 8)
         pos = m.end()
         if closing:
             if cur.parent is not None and cur.tag == name:
