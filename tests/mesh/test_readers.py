@@ -68,8 +68,9 @@ def solids(vertices: np.ndarray, faces: np.ndarray):
         return ("repair error", str(exc))
     total = sum((s.mass_properties(1.0) for s in found.solids[1:]),
                 found.solids[0].mass_properties(1.0))
-    united = any("boolean union" in s.method for s in found.solids)
-    return ("ok", total.mass, total.com, total.inertia, united)
+    # closed as given (welded only): the integrals do not depend on the vertex numbering
+    repaired = any(s.method != "exact (closed mesh)" for s in found.solids)
+    return ("ok", total.mass, total.com, total.inertia, repaired)
 
 
 def assert_same_as_trimesh(path: Path, max_faces: int = mesh_io.DEFAULT_MAX_FACES,
@@ -92,10 +93,16 @@ def assert_same_as_trimesh(path: Path, max_faces: int = mesh_io.DEFAULT_MAX_FACE
         got, want = solids(*ours[1:]), solids(*ref[1:])
         assert got[0] == want[0], (path, got, want)
         if got[0] == "ok":
-            # Round-off of the integrals; where overlapping bodies were united, manifold3d's
-            # result depends on the vertex numbering (a soup welded here, trimesh's merged
-            # arrays there), measured at 1.1e-7 of the volume on b1's trunk.dae: 1e-6.
-            rtol = 1e-6 if got[4] or want[4] else 1e-9
+            # Round-off of the integrals for a surface closed as given. Where the repair did
+            # more (stitched seams, capped holes, united overlapping bodies), its choices
+            # follow the vertex numbering (a soup welded here, trimesh's merged arrays
+            # there): measured up to 1.2e-7 of the volume (b1's trunk.dae, UR5's wrist1.dae),
+            # far inside the stated uncertainty of such repairs: 1e-6.
+            # COLLADA: the reference (trimesh.load) merges vertices within 1e-8 m, moving
+            # them by that much; here the file's own coordinates are kept (UR5's wrist1.dae,
+            # closed as given, differs by 1.2e-7 of its volume for that reason alone).
+            dae = path.suffix.lower() == ".dae"
+            rtol = 1e-6 if got[4] or want[4] or dae else 1e-9
             scale = max(abs(want[1]), 1e-300)
             assert abs(got[1] - want[1]) <= rtol * scale, path
             size = scale ** (1 / 3)
