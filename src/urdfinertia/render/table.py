@@ -19,8 +19,11 @@ def _g(x: float) -> str:
 
 #: fix table columns, most important first: a narrow terminal keeps a prefix of them
 #: (link and status always), with the width each needs to be readable.
+#: Columns in the order they are dropped last (a narrow terminal keeps the first ones),
+#: with the width each needs; they are shown in :data:`_FIX_ORDER`.
 _FIX_COLUMNS = (("link", 0), ("mass kg", 10), ("notes", 24), ("CoM m", 26),
                 ("principal moments kg m^2", 28), ("geometry", 30))
+_FIX_ORDER = ("link", "mass kg", "CoM m", "principal moments kg m^2", "geometry", "notes")
 
 
 def fix_console(stderr: bool = False) -> Console:
@@ -31,14 +34,14 @@ def fix_console(stderr: bool = False) -> Console:
 
 def _fix_columns(width: int | None) -> list[str]:
     if width is None:
-        return [c for c, _ in _FIX_COLUMNS]
+        return list(_FIX_ORDER)
     keep: list[str] = []
     used = 12
     for name, need in _FIX_COLUMNS:
         if used + need <= width or not keep:
             keep.append(name)
             used += need
-    return keep
+    return [name for name in _FIX_ORDER if name in keep]
 
 
 def _notes(r: LinkResult) -> str:
