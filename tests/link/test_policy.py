@@ -143,6 +143,21 @@ def test_a_massless_fixed_joint_child_stays_massless(tmp_path, body):
     assert fix_file(path, FixOptions(recompute="all")).output != path.read_bytes()
 
 
+def test_a_token_mass_frame_on_a_fixed_joint_keeps_its_zero_tensor(tmp_path):
+    """so101's gripper_frame_link: 1e-9 kg with a zero tensor and no geometry. MuJoCo takes
+    it as written and refuses a tiny made-up tensor, so it is left as it is."""
+    frame = link("tip", inertial("1e-09", diag=("0", "0", "0")), geometry=False)
+    path = write(tmp_path, robot(*CLEAN, frame, joint("tip", "b", "fixed")))
+    result = fix_file(path, FixOptions())
+    tip = {r.name: r for r in result.links}["tip"]
+    assert tip.assembly is None and tip.decision.startswith("frame on a fixed joint")
+    assert result.output == path.read_bytes()
+    # the same link on a moving joint is a body: it gets the minimal repair
+    moving = write(tmp_path, robot(*CLEAN, frame, joint("tip", "b")))
+    tip = {r.name: r for r in fix_file(moving, FixOptions()).links}["tip"]
+    assert tip.status == "repaired"
+
+
 def test_a_root_without_inertial_is_left_and_reported(tmp_path):
     path = write(tmp_path, robot(*CLEAN, base=""))
     base = fix_file(path, FixOptions()).links[0]

@@ -141,6 +141,14 @@ def decide_link(link: Link, robot: Robot, kin: Kinematics, options: FixOptions,
         return Decision(name, "leave", f"root link {what}: left as it is (a floating base "
                         "needs --links NAME or --all)")
     findings = value_findings(link, kin, robot)
+    codes = {f.code for f in findings if f.link == name}
+    if codes == {"inertia-zero"} and not kin.moves(name) and name in kin.parent_joint \
+            and not (link.collisions or link.visuals):
+        # a frame with a token mass (so101's gripper_frame_link: 1e-9 kg, zero tensor):
+        # simulators merge it into its parent; a made-up tensor of that size is one MuJoCo
+        # refuses (eigenvalues below its 1e-15 floor), where it took the zero tensor
+        return Decision(name, "leave", "frame on a fixed joint with a zero tensor and "
+                        "nothing to compute from: left as it is")
     bounds = density = None
     if link.inertial is not None and (link.collisions or link.visuals):
         judged = geometry_judgement(link, meshes, cache, options, urdf_dir)
