@@ -37,12 +37,7 @@ from urdfinertia.mesh.read.load import TriangleMesh, load_mesh  # noqa: E402
 from urdfinertia.mesh.repair.pipeline import repair_mesh  # noqa: E402
 from urdfinertia.mesh.solids import integrate_repaired  # noqa: E402
 
-PARTS = (
-    "g1_description/meshes/left_wrist_roll_link.STL",
-    "tiago_pro_description/meshes/omni_base/wheels/suspension_front_link.stl",
-    "so_arm_description/meshes/so100/Wrist_Pitch_Roll.stl",
-    "cassie_description/meshes/tarsus.stl",
-)
+PARTS = damage.PARTS
 PARTS_COUNT = len(PARTS)
 MIRROR = np.array([-1.0, 1.0, 1.0])
 

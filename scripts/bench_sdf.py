@@ -46,12 +46,7 @@ from urdfinertia.cli import main as cli_main  # noqa: E402
 from urdfinertia.descriptions.paths import find_package  # noqa: E402
 from urdfinertia.mesh.read.load import load_mesh  # noqa: E402
 
-PARTS = (
-    "g1_description/meshes/left_wrist_roll_link.STL",
-    "tiago_pro_description/meshes/omni_base/wheels/suspension_front_link.stl",
-    "so_arm_description/meshes/so100/Wrist_Pitch_Roll.stl",
-    "cassie_description/meshes/tarsus.stl",
-)
+PARTS = damage.PARTS
 _PACKAGE_URI = re.compile(rb"package://([A-Za-z0-9_.\-]+)/")
 
 

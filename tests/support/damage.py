@@ -93,3 +93,13 @@ def seam(vertices: np.ndarray, faces: np.ndarray, gap: float, rng: np.random.Gen
     out = faces.copy()
     out[side] += len(vertices)  # that side's faces use the moved copies only
     return np.concatenate([vertices, moved]), out
+
+
+#: The real concave parts (example-robot-data paths) whose undamaged originals are the
+#: truth of the damage benchmarks (scripts/bench_meshes.py, scripts/bench_sdf.py).
+PARTS = (
+    "g1_description/meshes/left_wrist_roll_link.STL",
+    "tiago_pro_description/meshes/omni_base/wheels/suspension_front_link.stl",
+    "so_arm_description/meshes/so100/Wrist_Pitch_Roll.stl",
+    "cassie_description/meshes/tarsus.stl",
+)
