@@ -7,8 +7,9 @@ The stages, in order (each vectorised; see :mod:`meshgraph`, :mod:`holes`, :mod:
    keep repeated triangles once, and cancel pairs of opposite ones (a shared inner wall);
 2. orient: make neighbouring faces agree across every two-sided edge (a patch is a set of
    faces linked that way);
-3. close: cap each patch's boundary loops with fans (:func:`holes.close_holes`), so every
-   patch becomes a closed shell with a well-defined signed volume;
+3. close: cap each patch's boundary loops (:func:`holes.close_holes`: triangulations,
+   fans or winding-number level caps), so every patch becomes a closed shell with a
+   well-defined signed volume, each cap stating its uncertainty;
 4. turn outward: a shell nested in no other is turned to positive volume; a nested
    shell keeps its orientation relative to its container, so an opposite one is a
    cavity and a same-oriented one is a solid inside a solid (removed by the union);
@@ -72,7 +73,11 @@ class RepairedBody:
     provenance : str
         How its surface was closed, in one phrase: "closed as given", "welded",
         "stitched", each followed by "; capped N holes (volume within ~x%)" where holes
-        were capped.
+        were capped, naming how many were closed by winding-number level surfaces.
+    dependence : float
+        m^3, how much the volume depends on the choice of caps (``HoleCaps.dependence``)
+        plus what a stitch may have changed: the figure by which a stitched and an
+        unstitched repair of the same mesh are compared.
     """
 
     vertices: np.ndarray
@@ -81,6 +86,7 @@ class RepairedBody:
     error_estimate: float | None = None
     notes: tuple[str, ...] = ()
     provenance: str = ""
+    dependence: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -160,9 +166,10 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> Repaired
 
 
 def _stated_error(repaired: RepairedMesh) -> float:
-    """Stated absolute volume uncertainty of a repair (m^3)."""
-    return sum((b.error_estimate or 0.0) * abs(_volume(b.vertices, b.faces))
-               for b in repaired.bodies)
+    """How much a repair's volume depends on its choices (m^3): what a stitched and an
+    unstitched repair are compared by. Not the stated error bound (the tent of
+    :mod:`holes` bounds what a cap may miss, the same for both repairs' big holes)."""
+    return sum(b.dependence for b in repaired.bodies)
 
 
 def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str], timer: StageTimes,
@@ -217,7 +224,8 @@ def _with_origin(body: RepairedBody, origin: str, stitch_uncertainty: float) -> 
         if not capped:
             origin = f"{origin}, volume within ~{100 * error:.2g}%"
     provenance = f"{origin}; {capped}" if capped else origin
-    return RepairedBody(body.vertices, body.faces, method, error, body.notes, provenance)
+    return RepairedBody(body.vertices, body.faces, method, error, body.notes, provenance,
+                        body.dependence + stitch_uncertainty)
 
 
 def _checked(mesh: TriangleMesh) -> tuple[np.ndarray, np.ndarray]:
@@ -395,12 +403,15 @@ def _body(shells: list[_Shell], outer: int, cavities: list[int]) -> RepairedBody
         error = uncertainty / volume
         area = _areas(vertices[faces]).sum()
         share = sum(float(s.caps.area.sum()) for s in members) / area
-        notes.append(f"open mesh: closed {loops} holes ({100 * share:.2g}% of the surface), "
-                     f"volume estimated within ~{100 * error:.2g}%")
-        provenance = f"capped {loops} holes (volume within ~{100 * error:.2g}%)"
+        level = sum(int(s.caps.level.sum()) for s in members)
+        by = f", {level} by winding-number level surfaces" if level else ""
+        notes.append(f"open mesh: closed {loops} holes ({100 * share:.2g}% of the surface"
+                     f"{by}), volume estimated within ~{100 * error:.2g}%")
+        provenance = f"capped {loops} holes{by} (volume within ~{100 * error:.2g}%)"
     if cavities:
         notes.append(f"{len(cavities)} cavities subtracted")
-    return RepairedBody(vertices, faces, method, error, tuple(notes), provenance)
+    dependence = sum(float(s.caps.dependence.sum()) for s in members)
+    return RepairedBody(vertices, faces, method, error, tuple(notes), provenance, dependence)
 
 
 def _unite(shells: list[_Shell], groups: list[tuple[int, list[int]]], timer: StageTimes,
@@ -433,7 +444,10 @@ def _unite(shells: list[_Shell], groups: list[tuple[int, list[int]]], timer: Sta
     groups_u, _ = _group(shells_u)
     exact = all(b.method.startswith("exact") for b in chosen)
     base = "exact" if exact else "holes closed with caps (estimate)"
-    error = max(b.error_estimate or 0.0 for b in chosen)
+    # the stated volumes add up: each body's relative error weighted by its volume, over
+    # the united volume (a small, badly capped body must not set the whole body's error)
+    error = sum((b.error_estimate or 0.0) * abs(_volume(b.vertices, b.faces))
+                for b in chosen) / after
     notes = tuple(dict.fromkeys(n for b in chosen for n in b.notes))
     capped = "; ".join(dict.fromkeys(b.provenance for b in chosen if b.provenance))
     new = []
@@ -442,7 +456,8 @@ def _unite(shells: list[_Shell], groups: list[tuple[int, list[int]]], timer: Sta
         new.append(RepairedBody(body.vertices, body.faces,
                                 f"{base}; boolean union of overlapping bodies (manifold3d)",
                                 error, notes + body.notes,
-                                f"{capped}; united" if capped else "united"))
+                                f"{capped}; united" if capped else "united",
+                                sum(b.dependence for b in chosen) / len(groups_u)))
     note = (f"united {len(involved)} overlapping bodies into {len(new)}: removed "
             f"{100 * (before - after) / before:.3g}% double-counted volume")
     return rest + new, note

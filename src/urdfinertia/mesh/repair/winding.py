@@ -82,7 +82,7 @@ RAY_RTOL = 1e-9
 
 
 def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayLike,
-                           ) -> np.ndarray:
+                           exact_on_graze: bool = True) -> np.ndarray:
     """Winding numbers of a closed surface, counted along rays, with the same values.
 
     For a closed surface (every edge used equally often in each direction) the winding
@@ -100,6 +100,10 @@ def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayL
     vertices : (n, 3) float
     faces : (m, 3) int
         A closed surface.
+    exact_on_graze : bool
+        False counts grazing rays as they fall instead of asking
+        :func:`winding_numbers`: a point on or next to the surface may then be off by
+        one, for callers that search along lines and reject such points anyway.
 
     Returns
     -------
@@ -154,7 +158,7 @@ def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayL
         out[start:start + len(p)] = np.bincount(pi[hit], weights=np.sign(area[hit]),
                                                 minlength=len(p))
         unsure[start:start + len(p)] = np.bincount(pi[graze], minlength=len(p)) > 0
-    if unsure.any():
+    if exact_on_graze and unsure.any():
         out[unsure] = winding_numbers(pts_all[unsure], v, f)
     return out
 
