@@ -30,6 +30,7 @@ sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(ROOT / "tests"))
 
 from support import damage  # noqa: E402
+from support.corpus import example_robot_data_robots  # noqa: E402
 
 from urdfinertia.errors import MeshError  # noqa: E402
 from urdfinertia.inertia.massprops import MassProperties, combine  # noqa: E402
@@ -40,14 +41,6 @@ from urdfinertia.mesh.solids import integrate_repaired  # noqa: E402
 PARTS = damage.PARTS
 PARTS_COUNT = len(PARTS)
 MIRROR = np.array([-1.0, 1.0, 1.0])
-
-
-def erd_robots() -> Path:
-    for base in map(Path, sys.path):
-        cand = base / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if cand.is_dir():
-            return cand
-    raise SystemExit("example-robot-data is not installed (pip install example-robot-data)")
 
 
 def ours(v: np.ndarray, f: np.ndarray, scale: np.ndarray | None = None,
@@ -293,7 +286,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-corpus", action="store_true")
     args = parser.parse_args(argv)
     rng = np.random.default_rng(args.seed)
-    robots = erd_robots()
+    robots = example_robot_data_robots()
     print("relative errors: volume (mass), inertia about the CoM (Frobenius); "
           "'est.' is this tool's stated error estimate")
     worst: Worst = {}

@@ -25,6 +25,10 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+
+from support.corpus import example_robot_data_robots  # noqa: E402
+
 #: Relative change of the sums that reordered floating-point arithmetic can make.
 ROUNDOFF = 1e-8
 
@@ -62,14 +66,6 @@ def measure(src: Path, files: list[Path]) -> dict:
     return json.loads(proc.stdout)
 
 
-def erd_robots() -> Path:
-    for base in map(Path, sys.path):
-        cand = base / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if cand.is_dir():
-            return cand
-    raise SystemExit("example-robot-data is not installed (pip install example-robot-data)")
-
-
 def main(argv: list[str] | None = None) -> int:
     import numpy as np
 
@@ -78,7 +74,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("mesh_dir", nargs="?", type=Path)
     parser.add_argument("--new", default=None)
     args = parser.parse_args(argv)
-    base = args.mesh_dir or erd_robots()
+    base = args.mesh_dir or example_robot_data_robots()
     files = sorted(p for p in base.rglob("*") if p.suffix.lower() in (".stl", ".obj", ".dae"))
     with tempfile.TemporaryDirectory() as tmp:
         trees = {}

@@ -21,6 +21,9 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
+sys.path.insert(0, str(ROOT / "tests"))
+
+from support.corpus import example_robot_data_robots  # noqa: E402
 
 from urdfinertia.mesh.read.load import load_mesh  # noqa: E402
 from urdfinertia.mesh.repair.graph import weld_vertices  # noqa: E402
@@ -32,11 +35,7 @@ from urdfinertia.mesh.solids import integrate_repaired  # noqa: E402
 def find(name: str) -> Path:
     if Path(name).is_file():
         return Path(name)
-    for base in map(Path, sys.path):
-        robots = base / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if robots.is_dir():
-            return next(robots.rglob(name))
-    raise SystemExit(f"{name}: not a file, and example-robot-data is not installed")
+    return next(example_robot_data_robots().rglob(name))
 
 
 def grid_volume(vertices: np.ndarray, faces: np.ndarray, n: int) -> float:

@@ -13,3 +13,11 @@ def example_robot_data_dir() -> Path | None:
         if cand.is_dir():
             return cand
     return None
+
+
+def example_robot_data_robots() -> Path:
+    """The collection's ``robots`` folder; exits with how to install it when missing."""
+    found = example_robot_data_dir()
+    if found is None:
+        raise SystemExit("example-robot-data is not installed (pip install example-robot-data)")
+    return found / "robots"
