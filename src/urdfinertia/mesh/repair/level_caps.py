@@ -53,15 +53,11 @@ class LevelCaps:
         the others ``n + i`` for ``vertices[i]``.
     loop : (c,) int
         Loop of each face.
-    moved : (k,) float
-        Fraction of each loop's inner points that found the level set (0: the cap is the
-        fan, subdivided).
     """
 
     vertices: np.ndarray
     faces: np.ndarray
     loop: np.ndarray
-    moved: np.ndarray
 
 
 def level_caps_points(sizes: np.ndarray) -> int:
@@ -97,11 +93,10 @@ def level_caps(n: int, corners: list[tuple[int, np.ndarray]], centre: np.ndarray
         owner.append(np.full(len(points[-1]), loop_id))
         starts.append(starts[-1] + len(points[-1]))
     if not points:
-        return LevelCaps(np.zeros((0, 3)), np.zeros((0, 3), np.int64), np.zeros(0, np.int64),
-                         np.zeros(0))
+        return LevelCaps(np.zeros((0, 3)), np.zeros((0, 3), np.int64), np.zeros(0, np.int64))
     q = np.concatenate(points)
     lid = np.concatenate(owner)
-    t, moved = _level_offsets(q, lid, corners, centre, normal, closed_vertices,
+    t = _level_offsets(q, lid, corners, centre, normal, closed_vertices,
                               closed_faces, fan_faces, fan_loop)
     q = q + t[:, None] * normal[lid]
     faces, loops = [], []
@@ -115,15 +110,14 @@ def level_caps(n: int, corners: list[tuple[int, np.ndarray]], centre: np.ndarray
         inner = rings[-1]
         faces.append(np.stack([np.roll(inner, -1), inner, np.full(s, idx[-1])], axis=1))
         loops.append(np.full(s * (2 * RINGS - 1), loop_id))
-    share = np.array([moved[starts[k]:starts[k + 1]].mean() for k in range(len(corners))])
-    return LevelCaps(q, np.concatenate(faces).astype(np.int64), np.concatenate(loops), share)
+    return LevelCaps(q, np.concatenate(faces).astype(np.int64), np.concatenate(loops))
 
 
 def _level_offsets(q: np.ndarray, lid: np.ndarray, corners: list[tuple[int, np.ndarray]],
                    centre: np.ndarray, normal: np.ndarray, closed_vertices: np.ndarray,
                    closed_faces: np.ndarray, fan_faces: np.ndarray, fan_loop: np.ndarray,
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Offset of each point along its loop's normal to ``w = 1/2``, and whether found."""
+                   ) -> np.ndarray:
+    """Offset of each point along its loop's normal to ``w = 1/2`` (0 where not found)."""
     radius = np.zeros(len(centre))
     for loop_id, ids in corners:
         radius[loop_id] = np.linalg.norm(closed_vertices[ids] - centre[loop_id], axis=1).max()
@@ -167,6 +161,4 @@ def _level_offsets(q: np.ndarray, lid: np.ndarray, corners: list[tuple[int, np.n
     jump = np.abs(level(lo, search) - level(hi, search)) > JUMP
     offset = np.zeros(len(q))
     offset[search[~jump]] = 0.5 * (lo + hi)[~jump]
-    moved = np.zeros(len(q), dtype=bool)
-    moved[search[~jump]] = True
-    return offset, moved
+    return offset
