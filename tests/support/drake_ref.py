@@ -1,8 +1,9 @@
-"""Drake as a reference reader of SDFormat (and its ``fix_inertia``), run in its own Python.
+"""Drake as a reference reader of SDFormat (and its ``fix_inertia``), run in a child process.
 
-Drake is too large for the dev extra, so it is used where it is installed: the Python in
-``URDFINERTIA_DRAKE_PYTHON``, this interpreter when it can import ``pydrake``, or the
-corpus virtual environment. Run as a script (``python drake_ref.py FILE [NAME=DIR ...]``) under
+Drake comes from PyPI (the ``drake`` wheel, in the dev extra). The child is this interpreter
+when it can import ``pydrake``, or the Python named by ``URDFINERTIA_DRAKE_PYTHON`` (a
+separate environment that has it). The test command sets ``URDFINERTIA_REQUIRE_DRAKE=1`` so
+that a missing Drake fails the comparison tests instead of skipping them. Run as a script (``python drake_ref.py FILE [NAME=DIR ...]``) under
 that Python, this module prints one JSON object: per body (scoped ``model::body``), the
 mass, the CoM and the inertia about the CoM in the body frame, as Drake parsed them.
 """
@@ -16,7 +17,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-_CANDIDATES = ("/work/corpus/venv/bin/python",)
+REQUIRE_ENV = "URDFINERTIA_REQUIRE_DRAKE"
 
 
 def drake_python() -> str | None:
@@ -26,10 +27,12 @@ def drake_python() -> str | None:
         return env
     if importlib.util.find_spec("pydrake") is not None:
         return sys.executable
-    for cand in _CANDIDATES:
-        if Path(cand).is_file():
-            return cand
     return None
+
+
+def drake_required() -> bool:
+    """True where a missing Drake is a failure (the test command), not a reason to skip."""
+    return os.environ.get(REQUIRE_ENV, "") not in ("", "0")
 
 
 def drake_bodies(path: Path, package_dirs: dict[str, Path] | None = None,
@@ -37,7 +40,7 @@ def drake_bodies(path: Path, package_dirs: dict[str, Path] | None = None,
     """``{"bodies": {name: {mass, com, inertia}}}`` or ``{"error": text}``."""
     python = drake_python()
     if python is None:
-        raise RuntimeError("no Python with pydrake")
+        raise RuntimeError("no Python with pydrake: pip install drake (in the dev extra)")
     args = [python, __file__, str(path)]
     args += [f"{k}={v}" for k, v in (package_dirs or {}).items()]
     done = subprocess.run(args, capture_output=True, text=True, timeout=timeout)
@@ -50,7 +53,7 @@ def drake_fix_inertia(src: Path, dst: Path, timeout: float = 300.0) -> str | Non
     """Run Drake's ``fix_inertia`` on ``src`` into ``dst``; None, or its last error line."""
     python = drake_python()
     if python is None:
-        raise RuntimeError("no Python with pydrake")
+        raise RuntimeError("no Python with pydrake: pip install drake (in the dev extra)")
     done = subprocess.run([python, "-m", "pydrake.multibody.fix_inertia", str(src), str(dst)],
                           capture_output=True, text=True, timeout=timeout,
                           env={**os.environ, "ROS_PACKAGE_PATH": os.environ.get(
@@ -66,7 +69,7 @@ def drake_batch(jobs: list[dict], timeout: float = 3600.0) -> list[dict]:
     (``{"error": text}`` or ``{}``). Answers in the order of ``jobs``."""
     python = drake_python()
     if python is None:
-        raise RuntimeError("no Python with pydrake")
+        raise RuntimeError("no Python with pydrake: pip install drake (in the dev extra)")
     done = subprocess.run([python, __file__, "--batch"], input=json.dumps(jobs),
                           capture_output=True, text=True, timeout=timeout)
     if done.returncode != 0:

@@ -1,21 +1,23 @@
 """SDFormat against Drake: Drake reads our products of inertia as we mean them, and our fix
 of a closed mesh model agrees with Drake's ``fix_inertia`` (which needs closed meshes).
 
-Skipped where no Python with ``pydrake`` is found (:mod:`support.drake_ref`).
+Drake is in the dev extra (``pip install drake``). Skipped where no Python with ``pydrake`` is
+found, except in the test command, which requires it (:mod:`support.drake_ref`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from support.drake_ref import drake_bodies, drake_fix_inertia, drake_python
+from support.drake_ref import drake_bodies, drake_fix_inertia, drake_python, drake_required
 from support.sdf import sdf_doc
 
 from urdfinertia.descriptions.sdf.read import robot_from_bytes
 from urdfinertia.link.fix import fix_file
 from urdfinertia.link.options import FixOptions
 
-pytestmark = pytest.mark.skipif(drake_python() is None, reason="pydrake not available")
+pytestmark = pytest.mark.skipif(drake_python() is None and not drake_required(),
+                                reason="pydrake not available (pip install drake)")
 
 
 def test_drake_reads_the_tensor_we_read(tmp_path):

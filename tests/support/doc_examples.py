@@ -1,0 +1,247 @@
+"""The runnable examples of README.md and docs/*.md: find them, run them, compare, rewrite.
+
+The convention (also stated in ``docs/contributing.md``):
+
+- A fenced block marked ```` ```console ```` is a shell session. Each line starting with
+  ``$ `` is a command (a trailing ``\\`` continues it on the next line); the lines after it,
+  up to the next command, are what it printed (stdout and stderr together). A command
+  expects exit code 0 unless it ends with a comment ``# exit N``.
+- A fenced block marked ```` ```python ```` is executed; the blocks of one page share one
+  namespace, in page order, so a later block may use what an earlier one defined. Examples
+  state their facts with ``assert``.
+- Blocks in any other language (``sh``, ``text``, ``toml``, ``yaml``, ...) are syntax
+  templates, files or abridged illustrations, and are not run.
+- An HTML comment right before a console block, ``<!-- keep: REGEX -->``, tells
+  :func:`regenerate` to keep only the output lines that match REGEX (to abridge wide tables).
+
+Every page runs in a fresh folder holding a copy of the repository's ``robots/`` folder,
+with ``ERD`` set to example-robot-data's ``robots`` folder and the ``urdf-inertia`` of this
+interpreter's environment first on ``PATH``. Paths of that folder and of ``ERD`` are written
+as ``$ERD`` and left out when outputs are compared or rewritten.
+
+What is checked, loosely so that layout changes do not matter: the exit code, and that every
+number printed in the documented output is also printed by the real run.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from support.corpus import example_robot_data_robots
+
+ROOT = Path(__file__).resolve().parents[2]
+RUN_LANGUAGES = ("console", "python")
+_FENCE = re.compile(r"^(`{3,})([\w+-]*)\s*$")
+_KEEP = re.compile(r"^<!--\s*keep:\s*(.*?)\s*-->\s*$")
+_EXIT = re.compile(r"#\s*exit\s+(\d+)\s*$")
+#: Numbers as printed: integers, decimals and exponents (``1.175e-06``, ``-0.0475``, ``81``).
+_NUMBER = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+#: The width of plain-text output (piped) is the tool's own; this keeps other tools narrow.
+_ENV_EXTRA = {"COLUMNS": "120", "NO_COLOR": "1", "TERM": "dumb", "PYTHONHASHSEED": "0"}
+
+
+def doc_files() -> list[Path]:
+    """README.md and every page of the site, in a stable order."""
+    return [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
+@dataclass
+class Command:
+    text: str  # the command as typed, continuation lines joined
+    output: list[str]  # the documented output lines
+    exit_code: int
+
+
+@dataclass
+class Block:
+    path: Path
+    line: int  # 1-based line of the opening fence
+    language: str
+    lines: list[str]  # the block's content
+    keep: str | None = None
+    commands: list[Command] = field(default_factory=list)
+
+    @property
+    def where(self) -> str:
+        return f"{self.path.relative_to(ROOT)}:{self.line}"
+
+
+def blocks(path: Path) -> list[Block]:
+    """The runnable blocks of one Markdown file (unindented fences only)."""
+    found: list[Block] = []
+    lines = path.read_text(encoding="utf-8").splitlines()
+    i = 0
+    while i < len(lines):
+        m = _FENCE.match(lines[i])
+        if not m:
+            i += 1
+            continue
+        fence, language = m.group(1), m.group(2)
+        end = i + 1
+        while end < len(lines) and lines[end].rstrip() != fence:
+            end += 1
+        if language in RUN_LANGUAGES:
+            keep = None
+            if i > 0 and (k := _KEEP.match(lines[i - 1])):
+                keep = k.group(1)
+            block = Block(path, i + 1, language, lines[i + 1:end], keep)
+            if language == "console":
+                block.commands = _commands(block)
+            found.append(block)
+        i = end + 1
+    return found
+
+
+def _commands(block: Block) -> list[Command]:
+    commands: list[Command] = []
+    lines = iter(block.lines)
+    for line in lines:
+        if line.startswith("$ "):
+            text = line[2:]
+            while text.endswith("\\"):
+                text = text[:-1] + " " + next(lines).strip()
+            m = _EXIT.search(text)
+            commands.append(Command(text, [], int(m.group(1)) if m else 0))
+        elif commands:
+            commands[-1].output.append(line)
+        else:
+            raise ValueError(f"{block.where}: a console block must start with '$ '")
+    return commands
+
+
+class Workspace:
+    """A fresh folder with a copy of ``robots/``: where one page's examples run."""
+
+    def __init__(self) -> None:
+        self.dir = Path(tempfile.mkdtemp(prefix="urdfinertia-docs-"))
+        shutil.copytree(ROOT / "robots", self.dir / "robots")
+        self.erd = example_robot_data_robots()
+        bindir = str(Path(sys.executable).parent)
+        self.env = {**os.environ, **_ENV_EXTRA, "ERD": str(self.erd),
+                    "PATH": bindir + os.pathsep + os.environ.get("PATH", ""),
+                    "URDFINERTIA_CACHE_DIR": str(self.dir / ".cache")}
+        self.namespace: dict[str, object] = {"__name__": "__doc_example__"}
+
+    def close(self) -> None:
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def clean(self, text: str) -> str:
+        """Machine paths out: the workspace and example-robot-data's folder."""
+        text = text.replace(str(self.erd), "$ERD")
+        text = text.replace(str(self.dir) + os.sep, "").replace(str(self.dir), ".")
+        return text
+
+    def run(self, command: Command, timeout: float = 120.0) -> tuple[int, list[str]]:
+        done = subprocess.run(["bash", "-c", command.text + " 2>&1"], cwd=self.dir,
+                              env=self.env, capture_output=True, text=True, timeout=timeout)
+        lines = [ln.rstrip() for ln in self.clean(done.stdout).splitlines()]
+        return done.returncode, lines
+
+    def exec_python(self, block: Block) -> None:
+        code = compile("\n".join(block.lines) + "\n", block.where, "exec")
+        cwd = os.getcwd()
+        saved = {k: os.environ.get(k) for k in ("ERD", "URDFINERTIA_CACHE_DIR")}
+        os.environ.update(ERD=self.env["ERD"], URDFINERTIA_CACHE_DIR=self.env[
+            "URDFINERTIA_CACHE_DIR"])
+        os.chdir(self.dir)
+        try:
+            exec(code, self.namespace)  # noqa: S102 - the documentation's own examples
+        finally:
+            os.chdir(cwd)
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
+
+
+def numbers(lines: list[str]) -> set[str]:
+    """The numbers printed in ``lines``, as printed."""
+    return {m.group(0) for line in lines for m in _NUMBER.finditer(line)}
+
+
+def check_command(ws: Workspace, block: Block, command: Command) -> list[str]:
+    """The differences between a documented command and its real run (empty: it agrees)."""
+    code, lines = ws.run(command)
+    problems = []
+    if code != command.exit_code:
+        problems.append(f"{block.where}: `{command.text}` exited {code}, the page says "
+                        f"{command.exit_code}; it printed:\n" + "\n".join(lines[-15:]))
+    missing = numbers(command.output) - numbers(lines)
+    if missing:
+        problems.append(f"{block.where}: `{command.text}` no longer prints "
+                        f"{sorted(missing)}; regenerate with scripts/regen_docs.py")
+    return problems
+
+
+def check_file(path: Path) -> list[str]:
+    """Run every example of one page; the problems found (empty: all agree)."""
+    ws = Workspace()
+    problems: list[str] = []
+    try:
+        for block in blocks(path):
+            if block.language == "python":
+                ws.exec_python(block)
+                continue
+            for command in block.commands:
+                problems += check_command(ws, block, command)
+    finally:
+        ws.close()
+    return problems
+
+
+def regenerate(path: Path) -> int:
+    """Rerun a page's console blocks and write their real output into it; commands run."""
+    text = path.read_text(encoding="utf-8").splitlines()
+    ws = Workspace()
+    replaced: dict[int, list[str]] = {}  # fence line index -> new block content
+    count = 0
+    try:
+        for block in blocks(path):
+            if block.language == "python":
+                ws.exec_python(block)
+                continue
+            body: list[str] = []
+            raw = iter(block.lines)
+            for command in block.commands:
+                # the command lines as written (continuations kept)
+                for line in raw:
+                    if line.startswith("$ "):
+                        body.append(line)
+                        while body[-1].endswith("\\"):
+                            body.append(next(raw))
+                        break
+                code, lines = ws.run(command)
+                if code != command.exit_code:
+                    raise SystemExit(f"{block.where}: `{command.text}` exited {code}, "
+                                     f"expected {command.exit_code}:\n" + "\n".join(lines))
+                if block.keep is not None:
+                    lines = [ln for ln in lines if re.search(block.keep, ln)]
+                body += lines
+                count += 1
+            replaced[block.line - 1] = body
+    finally:
+        ws.close()
+    out: list[str] = []
+    i = 0
+    while i < len(text):
+        if i in replaced:
+            out.append(text[i])
+            fence = _FENCE.match(text[i]).group(1)  # type: ignore[union-attr]
+            out += replaced[i]
+            i += 1
+            while text[i].rstrip() != fence:
+                i += 1
+            out.append(text[i])
+        else:
+            out.append(text[i])
+        i += 1
+    path.write_text("\n".join(out) + "\n", encoding="utf-8")
+    return count

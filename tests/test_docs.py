@@ -1,0 +1,52 @@
+"""Every example of README.md and docs/*.md runs: console sessions against the shipped robots
+and example-robot-data, Python blocks executed (convention: :mod:`support.doc_examples`).
+
+A console command must exit as the page says and print every number the page shows; a
+Python block must run without error (its ``assert`` lines state its facts). After a change
+of the printed output, ``python scripts/regen_docs.py`` rewrites the pages' outputs.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from support.doc_examples import ROOT, blocks, check_file, doc_files, numbers
+
+FILES = doc_files()
+
+
+@pytest.mark.parametrize("path", FILES, ids=[str(p.relative_to(ROOT)) for p in FILES])
+def test_page_examples_run_as_shown(path):
+    problems = check_file(path)
+    assert not problems, "\n\n".join(problems)
+
+
+def test_the_readme_and_the_guide_have_runnable_examples():
+    """The convention must not be emptied by accident (a renamed fence runs nothing)."""
+    readme = blocks(ROOT / "README.md")
+    assert sum(len(b.commands) for b in readme) >= 6
+    assert any(b.language == "python" for b in readme)
+    assert sum(len(blocks(p)) for p in FILES) >= 20
+
+
+def test_numbers_are_compared_as_printed():
+    """The loose check: the numbers of a documented output, not its layout."""
+    assert numbers(["link_3.0 | 0.0096 | 8.776e-07 -0.0475 81 %"]) == {
+        "3.0", "0.0096", "8.776e-07", "-0.0475", "81"}
+    assert "2" not in numbers(["v2.1"])  # no digits cut out of a longer token
+
+
+def test_pages_hold_no_machine_paths_history_or_hashes():
+    """User docs say what the tool does, not where it was built or when it changed."""
+    bad = re.compile(r"(/work/|/tmp/|/root/|\bissue \d+|\bcommit [0-9a-f]{7,40}\b)",
+                     re.IGNORECASE)
+    pages = [*FILES, ROOT / "CHANGELOG.md"]
+    found = [f"{p.relative_to(ROOT)}:{i}: {line.strip()}" for p in pages
+             for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+             if bad.search(line)]
+    assert not found, "\n".join(found)
+
+
+def test_readme_is_short():
+    assert len((ROOT / "README.md").read_text(encoding="utf-8").splitlines()) <= 200
