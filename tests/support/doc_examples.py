@@ -40,7 +40,7 @@ ROOT = Path(__file__).resolve().parents[2]
 RUN_LANGUAGES = ("console", "python")
 _FENCE = re.compile(r"^(`{3,})([\w+-]*)\s*$")
 _KEEP = re.compile(r"^<!--\s*keep:\s*(.*?)\s*-->\s*$")
-_EXIT = re.compile(r"#\s*exit\s+(\d+)\s*$")
+_EXIT = re.compile(r"#\s*exit\s+(\d+)\b")
 #: Numbers as printed: integers, decimals and exponents (``1.175e-06``, ``-0.0475``, ``81``).
 _NUMBER = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
 #: The width of plain-text output (piped) is the tool's own; this keeps other tools narrow.
