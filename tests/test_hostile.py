@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support.privileges import file_modes_bind, run_cli_bound_by_file_modes
 
 from urdfinertia import cli
 from urdfinertia.descriptions import xml as xml_safety
@@ -53,6 +54,11 @@ def cube_stl(size: float = 0.1) -> bytes:
     for t in tri:
         out += struct.pack("<3f", 0, 0, 0) + t.tobytes() + b"\0\0"
     return bytes(out)
+
+
+def snapshot_names(folder: Path) -> list[str]:
+    """Every path under ``folder`` (readable or not)."""
+    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*"))
 
 
 def snapshot(folder: Path) -> dict[str, bytes]:
@@ -312,15 +318,26 @@ def test_mesh_is_a_folder(workdir, capsys):
     expect_refusal(workdir, urdf, capsys, "link 'arm'", "not a regular file")
 
 
-@pytest.mark.skipif(os.geteuid() == 0, reason="root reads files whatever their mode")
-def test_unreadable_mesh(workdir, capsys):
+def test_unreadable_mesh(workdir):
+    """A mesh of mode 0: one line naming the link and the cause, nothing written. Run in a
+    child bound by file modes, so that it holds as root too (support.privileges)."""
+    assert file_modes_bind(), "the child could not be bound by file modes"
     mesh = workdir / "cube.stl"
+    urdf = with_mesh(workdir, "cube.stl")
     mesh.chmod(0)
     try:
-        urdf = with_mesh(workdir, "cube.stl")
-        expect_refusal(workdir, urdf, capsys, "link 'arm'", "cannot read mesh")
+        before = snapshot_names(workdir)
+        done = run_cli_bound_by_file_modes(
+            ["fix", "--all", str(urdf), "-o", str(workdir / "out.urdf"), "-q", "--no-cache",
+             "--strict"], cwd=workdir)
     finally:
         mesh.chmod(0o644)
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.splitlines()
+    assert len(lines) == 1, done.stderr
+    assert "link 'arm'" in lines[0] and "cannot read mesh" in lines[0], lines[0]
+    assert "Traceback" not in done.stderr and done.stdout == ""
+    assert snapshot_names(workdir) == before  # no output, no temporary file
 
 
 def test_unreadable_mesh_reported(workdir, capsys, monkeypatch):
@@ -503,17 +520,25 @@ def test_output_parent_is_a_file(workdir, capsys):
     assert snapshot(workdir) == before
 
 
-@pytest.mark.skipif(os.geteuid() == 0, reason="root writes whatever the folder's mode")
-def test_output_folder_read_only(workdir, capsys):
+def test_output_folder_read_only(workdir):
+    """An output folder of mode 0o555: one line, exit 2, the folder stays empty and the
+    input unchanged. Run in a child bound by file modes (root included)."""
+    assert file_modes_bind(), "the child could not be bound by file modes"
     ro = workdir / "ro"
     ro.mkdir()
+    urdf_before = (workdir / "r.urdf").read_bytes()
     ro.chmod(0o555)
     try:
-        rc, _, err = run(["fix", "--all", str(workdir / "r.urdf"), "-o", str(ro / "o.urdf"), "-q",
-                          "--no-cache"], capsys)
+        done = run_cli_bound_by_file_modes(
+            ["fix", "--all", str(workdir / "r.urdf"), "-o", str(ro / "o.urdf"), "-q",
+             "--no-cache"], cwd=workdir)
     finally:
         ro.chmod(0o755)
-    assert rc == 2 and "cannot write" in err and not list(ro.iterdir())
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.splitlines()
+    assert len(lines) == 1 and "cannot write" in lines[0] and "o.urdf" in lines[0], done.stderr
+    assert not list(ro.iterdir())
+    assert (workdir / "r.urdf").read_bytes() == urdf_before
 
 
 def test_failed_run_keeps_existing_output(workdir, capsys):
