@@ -4,8 +4,9 @@ Drake comes from PyPI (the ``drake`` wheel, in the dev extra). The child is this
 when it can import ``pydrake``, or the Python named by ``URDFINERTIA_DRAKE_PYTHON`` (a
 separate environment that has it). The test command sets ``URDFINERTIA_REQUIRE_DRAKE=1`` so
 that a missing Drake fails the comparison tests instead of skipping them. Run as a script
-(``python drake_ref.py FILE [NAME=DIR ...]``) under that Python, this module prints one JSON object: per body (scoped ``model::body``), the
-mass, the CoM and the inertia about the CoM in the body frame, as Drake parsed them.
+(``python drake_ref.py FILE [NAME=DIR ...]``) under that Python, this module prints one JSON
+object: per body (scoped ``model::body``), the mass, the CoM and the inertia about the CoM in
+the body frame, as Drake parsed them.
 """
 
 from __future__ import annotations
