@@ -610,16 +610,22 @@ def test_internal_error_is_one_line_exit_3(workdir, capsys, monkeypatch):
         raise ZeroDivisionError("went\nwrong")
 
     monkeypatch.setattr("urdfinertia.cli.fix.fix_file", boom)
-    rc, _, err = run(["fix", "--all", str(workdir / "r.urdf"), "-q", "--no-cache"], capsys)
-    assert rc == 3
+    before = snapshot(workdir)
+    rc, out, err = run(["fix", "--all", str(workdir / "r.urdf"), "-q", "--no-cache"], capsys)
+    assert rc == 3 and out == ""
+    assert snapshot(workdir) == before
     assert err.splitlines() == ["urdf-inertia: internal error: ZeroDivisionError: went wrong "
                                 "(this is a bug; rerun with --debug for the traceback)"]
 
 
 def test_debug_shows_traceback(workdir, capsys):
     urdf = with_mesh(workdir, "gone.stl")
-    rc, _, err = run(["fix", "--all", str(urdf), "-q", "--no-cache", "--debug", "--strict"], capsys)
-    assert rc == 2
+    before = snapshot(workdir)
+    rc, out, err = run(["fix", "--all", str(urdf), "-q", "--no-cache", "--debug", "--strict"],
+                       capsys)
+    assert rc == 2 and out == ""  # nothing on stdout, nothing written
+    assert snapshot(workdir) == before
+    assert "mesh file not found" in err.splitlines()[-1]
     assert "Traceback" in err
     assert err.splitlines()[-1].startswith("urdf-inertia: error: ")
 
@@ -630,6 +636,7 @@ def test_usage_error_is_one_line(capsys):
     assert exc.value.code == 2
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and err.startswith("urdf-inertia: error: ")
+    assert "--max-faces" in err and "'many'" in err  # names the option and the bad value
 
 
 # --- determinism -----------------------------------------------------------------------

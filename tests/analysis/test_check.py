@@ -245,9 +245,14 @@ def test_fixed_links_are_reported_as_lumped(tmp_path):
 def test_unreadable_input_exits_2(tmp_path, capsys):
     bad = write(tmp_path, "<robot name='x'><link name='a'>", "bad.urdf")
     assert exit_code(bad) == 2
+    captured = capsys.readouterr()
+    (line,) = captured.err.splitlines()
+    assert line.startswith("urdf-inertia: error: ") and "bad.urdf" in line
     assert exit_code(tmp_path / "absent.urdf") == 2
-    err = capsys.readouterr().err
-    assert "bad.urdf" in err and "absent.urdf" in err
+    captured = capsys.readouterr()
+    (line,) = captured.err.splitlines()
+    assert line.startswith("urdf-inertia: error: ") and "absent.urdf" in line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.urdf"]  # nothing written
 
 
 def test_json_output_lists_findings_and_counts(tmp_path):

@@ -183,6 +183,8 @@ def test_cli_exit_code_names_each_failed_file(broken, tmp_path, capsys):
     assert code == 2
     assert "bad_xml.urdf" in err and "no_mesh.urdf" in err
     assert "5 files: 3 written" in err and "2 failed" in err
+    written = sorted(p.name for p in (tmp_path / "out").rglob("*.urdf"))
+    assert len(written) == 3 and "bad_xml.urdf" not in written and "no_mesh.urdf" not in written
 
 
 def test_cli_batch_exit_1_lists_the_links_left(broken, tmp_path, capsys):
@@ -196,9 +198,13 @@ def test_cli_batch_exit_1_lists_the_links_left(broken, tmp_path, capsys):
 
 
 def test_cli_several_inputs_need_an_output_folder(tree, capsys):
+    before = {p: p.read_bytes() for p in tree.rglob("*") if p.is_file()}
     code = main(["fix", "--all", str(tree / "pkg_a" / "robot_a.urdf"), str(tree / "pkg_b")])
     assert code == 2
-    assert "-o FOLDER or --in-place" in capsys.readouterr().err
+    captured = capsys.readouterr()
+    (line,) = captured.err.splitlines()
+    assert "-o FOLDER or --in-place" in line and captured.out == ""
+    assert {p: p.read_bytes() for p in tree.rglob("*") if p.is_file()} == before
 
 
 def test_cli_in_place_batch_keeps_backups(tree, tmp_path):

@@ -132,9 +132,13 @@ def test_baseline_survives_unrelated_edits_and_new_findings_fail(repo, capsys):
 def test_baseline_works_from_another_directory(repo, capsys):
     Path("urdf/r.urdf").write_text(robot({"arm": TRIANGLE}))
     assert run(capsys, "urdf/r.urdf", "--write-baseline", "b.json")[0] == 0
+    baseline = Path("b.json").read_bytes()
     os.chdir("urdf")
-    assert run(capsys, "r.urdf", "--baseline", "../b.json")[0] == 0
-    assert run(capsys, "r.urdf")[0] == 1
+    code, out, _ = run(capsys, "r.urdf", "--baseline", "../b.json", "--format", "github")
+    assert code == 0 and out.startswith("::notice ") and "triangle-inequality" in out
+    code, out, _ = run(capsys, "r.urdf", "--format", "github")
+    assert code == 1 and out.startswith("::error ") and "triangle-inequality" in out
+    assert Path("../b.json").read_bytes() == baseline  # reading a baseline never rewrites it
 
 
 def test_known_findings_are_notices_in_annotations(repo, capsys):
@@ -148,8 +152,10 @@ def test_known_findings_are_notices_in_annotations(repo, capsys):
 def test_a_bad_baseline_is_a_one_line_error(repo, capsys):
     Path("urdf/r.urdf").write_text(robot({"arm": GOOD}))
     Path("b.json").write_text('{"findings": []}')
-    code, _, err = run(capsys, "urdf/r.urdf", "--baseline", "b.json")
+    code, out, err = run(capsys, "urdf/r.urdf", "--baseline", "b.json")
     assert code == 2 and "baseline" in err and len(err.strip().splitlines()) == 1
+    assert err.startswith("urdf-inertia: error: ") and "b.json" in err
+    assert out == "" and Path("b.json").read_text() == '{"findings": []}'
 
 
 def test_skip_unknown_formats(repo, capsys):
@@ -157,4 +163,8 @@ def test_skip_unknown_formats(repo, capsys):
     Path("urdf/r.urdf").write_text(robot({"arm": GOOD}))
     code, out, _ = run(capsys, "package.xml", "urdf/r.urdf", "--skip-unknown-formats")
     assert code == 0 and "package.xml" not in out and "urdf/r.urdf" in out
-    assert run(capsys, "package.xml")[0] == 2  # named explicitly without the flag: an error
+    # named explicitly without the flag: an error naming the file and its root element
+    code, out, err = run(capsys, "package.xml")
+    assert code == 2 and out == ""
+    (line,) = err.splitlines()
+    assert line.startswith("urdf-inertia: error: package.xml:1: ") and "<package>" in line

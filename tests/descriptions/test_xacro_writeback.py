@@ -189,11 +189,18 @@ def test_in_place_on_xacro_writes_back_and_prints_no_urdf(tmp_path, capsys):
         DATA / "nested/parts/body.xacro").read_bytes()
 
 
-def test_write_back_on_urdf_input_is_refused(tmp_path):
+def test_write_back_on_urdf_input_is_refused(tmp_path, capsys):
     path = tmp_path / "r.urdf"
-    path.write_text('<robot name="r"><link name="a"><collision><geometry><box size="1 1 1"/>'
-                    "</geometry></collision></link></robot>")
+    text = ('<robot name="r"><link name="a"><collision><geometry><box size="1 1 1"/>'
+            "</geometry></collision></link></robot>")
+    path.write_text(text)
     assert main(["fix", "--all", str(path), "--write-back", "-q"]) == 2
+    captured = capsys.readouterr()
+    (line,) = captured.err.splitlines()
+    assert line.startswith("urdf-inertia: error: ") and "r.urdf" in line
+    assert "--write-back applies to xacro input" in line
+    assert captured.out == ""  # no document on stdout either
+    assert path.read_text() == text and sorted(p.name for p in tmp_path.iterdir()) == ["r.urdf"]
 
 
 def prepared(tmp_path: Path):
