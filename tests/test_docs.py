@@ -37,11 +37,12 @@ def test_numbers_are_compared_as_printed():
     assert "2" not in numbers(["v2.1"])  # no digits cut out of a longer token
 
 
-def test_pages_hold_no_machine_paths_history_or_hashes():
-    """User docs say what the tool does, not where it was built or when it changed."""
+def test_pages_and_sources_hold_no_machine_paths_history_or_hashes():
+    """Docs, docstrings and comments say what the tool does, not where it was built or when
+    it changed (history belongs in git log and the changelog)."""
     bad = re.compile(r"(/work/|/tmp/|/root/|\bissue \d+|\bcommit [0-9a-f]{7,40}\b)",
                      re.IGNORECASE)
-    pages = [*FILES, ROOT / "CHANGELOG.md"]
+    pages = [*FILES, ROOT / "CHANGELOG.md", *sorted((ROOT / "src").rglob("*.py"))]
     found = [f"{p.relative_to(ROOT)}:{i}: {line.strip()}" for p in pages
              for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
              if bad.search(line)]

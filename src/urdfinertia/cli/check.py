@@ -85,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
             findings += engines.findings(path, robot, options.package_dirs)
         checked.append(CheckedFile(path, robot, findings, locate_all(robot, data, findings),
                                    baseline.mark(findings, path)))
-        if meshes is not None:  # what fix would do, by the same rules (issue 14)
+        if meshes is not None:  # what fix would do, by the same rules
             from urdfinertia.link.policy import plan_robot
 
             plans[path] = plan_robot(robot, options, meshes)

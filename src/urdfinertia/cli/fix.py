@@ -124,7 +124,7 @@ def run(args: argparse.Namespace) -> int:
         print_fix_table(result.links, f"{result.path}: {result.robot.name}", console)
         if plan is not None:
             writeback.print_summary(plan, console)
-    _mass_summary(result, args.quiet)  # issue 14: the robot's mass never changes silently
+    _mass_summary(result, args.quiet)  # the robot's mass never changes silently
     if args.output is None and not args.in_place and plan is None:
         sys.stdout.buffer.write(document)  # a filter: -q only silences the table
     for note in result.robot.notes:  # e.g. SDF <include>s, which are not followed

@@ -26,7 +26,7 @@ from urdfinertia.hostile import hostile_xml_cause
 if TYPE_CHECKING:
     from urdfinertia.descriptions.model import Problem
 
-#: libxml2's nesting limit without XML_PARSE_HUGE (documented in README).
+#: libxml2's nesting limit without XML_PARSE_HUGE (documented in the safety guide).
 MAX_XML_DEPTH = 256
 #: Largest description accepted, bytes (the biggest real ones are a few MB).
 MAX_DOCUMENT_BYTES = 64 * 1024 * 1024

@@ -3,7 +3,7 @@
 A recomputed link keeps the values the policy trusts: the mass (through the mass policy,
 :func:`urdfinertia.link.mass.link_mass_source`) and the CoM. With a kept CoM the tensor is
 the homogeneous solid's tensor about its own centroid, written at the kept CoM: measured
-on real robots (issue 14), adding the parallel-axis term to move it there makes the error
+on real robots, adding the parallel-axis term to move it there makes the error
 against CAD worse in the tail (p90 76 % -> 104 %). Every derived tensor gets an error bar
 (:mod:`urdfinertia.link.errorbar`).
 """

@@ -12,7 +12,7 @@ tensor about the CoM grows with the distance between the solid's centroid and th
   spread of the homogeneous model over all links.
 
 Each band is the 80th percentile of the measured error in its bin: the true tensor is
-within it for about 80 % of links (coverage per package in the README).
+within it for about 80 % of links (coverage per package in the docs, "The error bar").
 """
 
 from __future__ import annotations
@@ -24,11 +24,11 @@ from dataclasses import dataclass
 OFFSET_EDGES = (0.01, 0.03, 0.06, 0.10)
 #: 80th percentile of the relative tensor error in each offset bin (one more than edges:
 #: the last is beyond 10 %), calibrated by ``scripts/bench_cad.py --calibrate`` on 399
-#: de-duplicated CAD links of 12 packages (README): not monotonic in the offset on these
+#: de-duplicated CAD links of 12 packages (docs: the error bar): not monotonic in the offset on these
 #: robots, so the offset sets the band only within the measured spread.
 OFFSET_P80 = (0.60, 0.45, 0.58, 0.49, 0.79)
 #: 80th percentile of the error when the CoM is derived too (only 6 such links measured;
-#: issue 14's 846 links give p75 47 %, p90 76 %).
+#: a wider set of 846 links gave p75 47 %, p90 76 %).
 MODEL_P80 = 0.81
 #: The coverage the bands are calibrated for.
 BAND_LEVEL = 0.80

@@ -183,7 +183,7 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
-    # which links are recomputed, and what of them is kept: link/policy.py (issue 14)
+    # which links are recomputed, and what of them is kept: link/policy.py
     from urdfinertia.link.apply import apply_decision
     from urdfinertia.link.policy import plan_robot
 
