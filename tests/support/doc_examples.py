@@ -139,8 +139,11 @@ class Workspace:
         return text
 
     def run(self, command: Command, timeout: float = 120.0) -> tuple[int, list[str]]:
-        done = subprocess.run(["bash", "-c", command.text + " 2>&1"], cwd=self.dir,
-                              env=self.env, capture_output=True, text=True, timeout=timeout)
+        # stderr joins stdout on the same pipe, as on a terminal; a redirection inside the
+        # command (`> file`) still takes stdout alone
+        done = subprocess.run(["bash", "-c", command.text], cwd=self.dir, env=self.env,
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              timeout=timeout)
         lines = [ln.rstrip() for ln in self.clean(done.stdout).splitlines()]
         return done.returncode, lines
 

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 OFFSET_EDGES = (0.01, 0.03, 0.06, 0.10)
 #: 80th percentile of the relative tensor error in each offset bin (one more than edges:
 #: the last is beyond 10 %), calibrated by ``scripts/bench_cad.py --calibrate`` on 399
-#: de-duplicated CAD links of 12 packages (docs: the error bar): not monotonic in the offset on these
-#: robots, so the offset sets the band only within the measured spread.
+#: de-duplicated CAD links of 12 packages (docs: the error bar): not monotonic in the
+#: offset on these robots, so the offset sets the band only within the measured spread.
 OFFSET_P80 = (0.60, 0.45, 0.58, 0.49, 0.79)
 #: 80th percentile of the error when the CoM is derived too (only 6 such links measured;
 #: a wider set of 846 links gave p75 47 %, p90 76 %).
