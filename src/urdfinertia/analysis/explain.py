@@ -25,7 +25,7 @@ from urdfinertia.descriptions.model import Robot
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
 from urdfinertia.link.assemble import PartResult
-from urdfinertia.link.fix import compute_link
+from urdfinertia.link.compute import compute_link
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.results import LinkResult
 

@@ -20,8 +20,8 @@ from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import Link, Problem
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.assemble import Assembly
+from urdfinertia.link.compute import compute_link
 from urdfinertia.link.errorbar import tensor_error_bar
-from urdfinertia.link.fix import compute_link
 from urdfinertia.link.mass import MassSource
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.parts import MeshSource
