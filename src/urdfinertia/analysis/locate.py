@@ -42,6 +42,8 @@ class CheckedFile:
     findings: list[Finding]
     locations: list[Location]
     known: list[bool]
+    #: links some of whose geometry could not be read (not verified)
+    unverified: frozenset[str] = frozenset()
 
     @property
     def new(self) -> list[Finding]:

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
-from urdfinertia.link.results import LinkResult
+from urdfinertia.link.results import LinkResult, Status
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -44,7 +44,7 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
     from urdfinertia.link.mass import link_mass_source
 
     if options.keep_auto and link.auto_inertial:
-        return LinkResult(link.name, "untouched", "none", None, link.inertial,
+        return LinkResult(link.name, Status.UNTOUCHED, "none", None, link.inertial,
                           ("auto inertia kept (--keep-auto): the simulator computes it",
                            *link.notes))
     spec = options.spec
@@ -73,10 +73,10 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
     except UrdfInertiaError as exc:
         if link_spec is not None:  # the spec, not the URDF, made these parts
             raise exc.with_context(file=link_spec.path, link=link.name) from None
-        return LinkResult(link.name, "left", role, None, link.inertial, link.notes,
+        return LinkResult(link.name, Status.LEFT, role, None, link.inertial, link.notes,
                           tuple(found), exc.cause)
     warnings = link.notes + _warnings(parts, result)
-    return LinkResult(link.name, "recomputed", role, result, link.inertial, warnings,
+    return LinkResult(link.name, Status.RECOMPUTED, role, result, link.inertial, warnings,
                       tuple(found))
 
 
@@ -100,7 +100,7 @@ def _usable_parts(link: Link, refs: Sequence[GeometryRef], meshes: MeshSource,
 def _not_computed(link: Link, found: list[Problem]) -> LinkResult:
     """A link without parts: untouched when it had nothing to compute from, else left."""
     if not found:
-        return LinkResult(link.name, "untouched", "none", None, link.inertial,
+        return LinkResult(link.name, Status.UNTOUCHED, "none", None, link.inertial,
                           ("no geometry: inertial left as it was", *link.notes))
     dropped = [p for p in found if p.kind == "dropped"]
     ignored = [p for p in found if p.kind == "ignored"]
@@ -112,9 +112,9 @@ def _not_computed(link: Link, found: list[Problem]) -> LinkResult:
     elif ignored:
         reason = f"{ignored[0].cause}, and no geometry to compute it from"
     else:  # only lenient notes: nothing wrong with the link itself
-        return LinkResult(link.name, "untouched", "none", None, link.inertial,
+        return LinkResult(link.name, Status.UNTOUCHED, "none", None, link.inertial,
                           ("no geometry: inertial left as it was", *link.notes), tuple(found))
-    return LinkResult(link.name, "left", "none", None, link.inertial, (), tuple(found),
+    return LinkResult(link.name, Status.LEFT, "none", None, link.inertial, (), tuple(found),
                       reason)
 
 

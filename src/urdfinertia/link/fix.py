@@ -21,18 +21,24 @@ from typing import TYPE_CHECKING
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.link.compute import compute_link, problem_code  # noqa: F401  (re-exported)
 from urdfinertia.link.options import FixOptions
-from urdfinertia.link.results import FixResult
+from urdfinertia.link.results import FixResult, LinkResult
 
 if TYPE_CHECKING:
     from urdfinertia.cache.library import MeshLibrary
     from urdfinertia.descriptions.model import Problem, Robot
 
 
-def fix_robot(robot: Robot, data: bytes, options: FixOptions,
-              meshes: MeshLibrary | None = None) -> FixResult:
-    """Recompute all links of ``robot`` and return the patched document."""
+def link_verdicts(robot: Robot, options: FixOptions,
+                  meshes: MeshLibrary | None = None) -> tuple[LinkResult, ...]:
+    """Every link's verdict: the one answer ``fix``, ``check``, ``compare``, ``explain``,
+    ``report`` and the Python API render.
+
+    The plan (:func:`urdfinertia.link.policy.plan_robot`: findings and decision) carried
+    out link by link (:func:`urdfinertia.link.apply.apply_decision`); nothing is written.
+    """
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.descriptions.formats import format_of
+    from urdfinertia.link.apply import apply_decision
+    from urdfinertia.link.policy import plan_robot
 
     path = robot.path or Path("robot.urdf")
     if meshes is None:
@@ -40,10 +46,6 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
-    # which links are recomputed, and what of them is kept: link/policy.py (issue 14)
-    from urdfinertia.link.apply import apply_decision
-    from urdfinertia.link.policy import plan_robot
-
     by_link: dict[str, list[Problem]] = {}
     for problem in robot.problems:
         if problem.link is not None:
@@ -56,8 +58,18 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
                                           tuple(by_link.get(link.name, ()))))
         except UrdfInertiaError as exc:
             raise exc.with_context(file=path, link=link.name) from None
+    return tuple(results)
+
+
+def fix_robot(robot: Robot, data: bytes, options: FixOptions,
+              meshes: MeshLibrary | None = None) -> FixResult:
+    """Every link's verdict (:func:`link_verdicts`) and the patched document."""
+    from urdfinertia.descriptions.formats import format_of
+
+    path = robot.path or Path("robot.urdf")
+    results = link_verdicts(robot, options, meshes)
     if options.strict:
-        refusal = FixResult(path, robot, tuple(results), data, data).strict_refusal()
+        refusal = FixResult(path, robot, results, data, data).strict_refusal()
         if refusal is not None:
             raise refusal
     new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}
@@ -65,13 +77,18 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
         output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path) from None
-    return FixResult(path, robot, tuple(results), data, output)
+    return FixResult(path, robot, results, data, output)
 
 
-def fix_file(path: str | Path, options: FixOptions,
+def fix_file(path: str | Path, options: FixOptions | None = None,
              meshes: MeshLibrary | None = None) -> FixResult:
+    """Read the description at ``path`` (any format) and fix it (:func:`fix_robot`).
+
+    ``options`` default to ``FixOptions()``, the command line's defaults. Nothing is
+    written: the patched document is ``result.output``.
+    """
     from urdfinertia.descriptions.formats import read_description
 
     robot, data = read_description(path)
-    return fix_robot(robot, data, options, meshes)
+    return fix_robot(robot, data, options or FixOptions(), meshes)
 
