@@ -61,6 +61,30 @@ def link_verdicts(robot: Robot, options: FixOptions,
     return tuple(results)
 
 
+def link_verdict(robot: Robot, name: str, options: FixOptions,
+                 meshes: MeshLibrary | None = None) -> LinkResult:
+    """One link's verdict, as :func:`link_verdicts` gives it, computing that link only."""
+    from urdfinertia.cache.library import MeshLibrary
+    from urdfinertia.descriptions.kinematics import Kinematics
+    from urdfinertia.link.apply import apply_decision
+    from urdfinertia.link.bounds import BoundsCache
+    from urdfinertia.link.policy import decide_link
+
+    path = robot.path or Path("robot.urdf")
+    if meshes is None:
+        meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    if options.spec is not None:
+        options.spec.check_links(robot)
+    link = robot.link(name)
+    problems = tuple(p for p in robot.problems if p.link == name)
+    try:
+        decision = decide_link(link, robot, Kinematics(robot), options, meshes,
+                               BoundsCache(meshes), path.parent)
+        return apply_decision(link, decision, options, meshes, path.parent, problems)
+    except UrdfInertiaError as exc:
+        raise exc.with_context(file=path, link=name) from None
+
+
 def fix_robot(robot: Robot, data: bytes, options: FixOptions,
               meshes: MeshLibrary | None = None) -> FixResult:
     """Every link's verdict (:func:`link_verdicts`) and the patched document."""

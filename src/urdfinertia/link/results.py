@@ -124,6 +124,13 @@ class LinkResult:
         return self.before
 
     @property
+    def planned(self) -> str:
+        """The decision as a plan, as ``check`` says it: "would be kept: plausible"."""
+        if self.decision.startswith(("recomputed", "kept", "repaired", "left")):
+            return "would be " + self.decision
+        return self.decision
+
+    @property
     def verified(self) -> bool:
         """Everything asked for could be read (no geometry unresolved or unreadable)."""
         return not self.unverified

@@ -45,17 +45,6 @@ def print_mass_summary(result: FixResult, console: Console, quiet: bool = False)
                   else str(change), highlight=False)
 
 
-#: Decisions written in the past tense: ``check`` says "would be" before them.
-_DONE = ("recomputed", "kept", "repaired", "left")
-
-
-def planned(r: LinkResult) -> str:
-    """The verdict's decision as a plan: "would be kept: plausible" (``check``)."""
-    if r.decision.startswith(_DONE):
-        return "would be " + r.decision
-    return r.decision
-
-
 def _worth_listing(r: LinkResult) -> bool:
     """Not a plausible link kept as written with nothing to say about it."""
     return r.action not in (Action.KEEP, Action.LEAVE) or bool(r.unverified) or any(
@@ -71,14 +60,14 @@ def plan_table(verdicts: Sequence[LinkResult], title: str) -> Table:
         table.add_column(col, overflow="fold")
     for r in verdicts:
         if _worth_listing(r):
-            table.add_row(r.name, planned(r))
+            table.add_row(r.name, r.planned)
     return table
 
 
 def plan_dict(verdicts: Sequence[LinkResult]) -> list[dict[str, object]]:
     """JSON rows of check's plan: every link's action, resulting status and reason."""
     return [{"link": r.name, "action": str(r.action) if r.action else None,
-             "status": str(r.status), "why": r.why, "text": planned(r),
+             "status": str(r.status), "why": r.why, "text": r.planned,
              "unverified": list(r.unverified)} for r in verdicts]
 
 
