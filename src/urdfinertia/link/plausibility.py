@@ -39,6 +39,11 @@ Bounds = tuple[np.ndarray, np.ndarray]
 COM_OUTSIDE_WARN = 0.25
 #: ... than this many box diagonals: error (a unit slip, not a modelling choice).
 COM_OUTSIDE_ERROR = 10.0
+#: A written body whose CoM lies farther outside the geometry's box than this many box
+#: diagonals, with a tensor beyond all its mass on the box's far corners, does not lie in
+#: that geometry: the geometry is a marker (Cassie's 1 cm "reference" boxes: 1.1 to 1.3
+#: diagonals; UR5's wrists, whose written tensors are wrong, 0.3 to 0.4).
+MARKER_OUTSIDE = 1.0
 #: Written trace / trace of the geometry at the written mass beyond this factor either way.
 INERTIA_RATIO_LIMIT = 100.0
 
@@ -187,10 +192,19 @@ def geometry_judgement(link: Link, meshes: MeshLibrary, cache: BoundsCache,
     d = raw.diagnosis()
     if d.finite and not d.zero and bounds is not None:
         out.extend(_scale_findings(name, raw, parts, bounds, options))
-    codes = {f.code for f in out}
-    outgrows = ("com-outside-geometry" in codes and bounds is not None
+    outgrows = (bounds is not None and raw.com_ok
+                and _outside(raw.com, *bounds) > MARKER_OUTSIDE * _diagonal(*bounds)
                 and float(np.trace(raw.inertia)) > _ceiling(raw, *bounds))
     return GeometryJudgement(out, bounds, rho, outgrows)
+
+
+def _outside(com: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """How far ``com`` lies outside the box ``lo..hi`` (0 inside), m."""
+    return float(np.linalg.norm(np.maximum(np.maximum(lo - com, com - hi), 0.0)))
+
+
+def _diagonal(lo: np.ndarray, hi: np.ndarray) -> float:
+    return float(np.linalg.norm(hi - lo))
 
 
 def _ceiling(raw: RawInertial, lo: np.ndarray, hi: np.ndarray) -> float:
@@ -203,8 +217,8 @@ def _ceiling(raw: RawInertial, lo: np.ndarray, hi: np.ndarray) -> float:
 
 def _com_findings(name: str, raw: RawInertial, lo: np.ndarray, hi: np.ndarray,
                   ) -> list[Finding]:
-    outside = float(np.linalg.norm(np.maximum(np.maximum(lo - raw.com, raw.com - hi), 0.0)))
-    diag = float(np.linalg.norm(hi - lo))
+    outside = _outside(raw.com, lo, hi)
+    diag = _diagonal(lo, hi)
     if diag <= 0 or outside <= COM_OUTSIDE_WARN * diag:
         return []
     rel = outside / diag

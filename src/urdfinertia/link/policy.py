@@ -212,8 +212,8 @@ def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | N
     if "implausible-density" in codes and density is not None:
         not_body = not_the_body(density)
     elif outgrows and codes & MASS_DISTRUST == set():
-        not_body = ("geometry is a marker, not the body (the written body's CoM lies "
-                    "outside it and its tensor exceeds all its mass on the box's corners)")
+        not_body = ("geometry is a marker, not the body (the written CoM lies more than a "
+                    "box diagonal outside it, the tensor beyond all the mass on its corners)")
     if not_body is not None:
         codes -= GEOMETRY_CODES
     unread = link.inertial is not None and bool(codes & UNREAD_CODES)
