@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support.corpus import example_robot_data_dir
 
 import urdfinertia
-from support.corpus import example_robot_data_dir
 from urdfinertia.analysis.check import check_description
 from urdfinertia.analysis.compare import compare_with_geometry
 from urdfinertia.analysis.explain import explain_link
