@@ -132,3 +132,18 @@ def test_library_check_reads_geometry_like_the_cli(tmp_path):
     assert "implausible-density" in codes
     assert "implausible-density" not in {
         f.code for f in urdfinertia.check_robot(model, geometry=False)}
+
+
+def test_json_and_sarif_carry_the_same_decision(tmp_path):
+    import json
+
+    path = robot(tmp_path, VALID, MARKER)
+    js, sarif = tmp_path / "c.json", tmp_path / "c.sarif"
+    assert main(["check", "-q", str(path), "--json", str(js), "--sarif", str(sarif)]) == 0
+    why = fix_file(path).link("motor").why
+    rows = json.loads(js.read_text())["files"][0]["findings"]
+    (density,) = [f for f in rows if f["code"] == "implausible-density"]
+    assert density["fix"] == "would be kept: " + why
+    results = json.loads(sarif.read_text())["runs"][0]["results"]
+    (density,) = [r for r in results if r["ruleId"] == "UI202"]
+    assert density["properties"]["fix"] == "would be kept: " + why

@@ -105,7 +105,8 @@ def run(args: argparse.Namespace) -> int:
             findings += engines.findings(path, robot, options.package_dirs)
         checked.append(CheckedFile(path, robot, findings, locate_all(robot, data, findings),
                                    baseline.mark(findings, path),
-                                   frozenset(r.name for r in result.unverified)))
+                                   frozenset(r.name for r in result.unverified),
+                                   result.links))
         if result.links:  # what fix would do: the verdicts fix carries out
             plans[path] = result.links
     code = max((exit_code(cf.new, args.strict, unverified_unknown(cf)) for cf in checked),
@@ -164,7 +165,7 @@ def json_document(checked: list[CheckedFile], code: int, strict: bool,
     report = []
     for cf in checked:
         rows = [{**vars(f), "rule": f.rule.id, "line": loc.line, "column": loc.column,
-                 "known": known}
+                 "known": known, "fix": cf.decision_of(f.link)}
                 for f, loc, known in zip(cf.findings, cf.locations, cf.known, strict=True)]
         report.append({"file": str(cf.path), "robot": cf.robot.name,
                        "links": len(cf.robot.links), "counts": severity_counts(cf.findings),
