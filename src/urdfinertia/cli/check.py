@@ -42,7 +42,15 @@ from urdfinertia.render.sarif import sarif_document
 FORMATS = ("text", "json", "sarif", "github")
 
 
+EPILOG = ("check is fix's plan without writing: it lists what fix would do with every link "
+          "that has findings. Exit codes: 0 clean; 1 an error (a warning too with --strict) "
+          "that no --baseline knows, or a link that was not verified because some of its "
+          "geometry could not be read (pass --package-dir NAME=PATH, or --no-geometry to "
+          "check the written values only); 2 unreadable input.")
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.epilog = EPILOG
     p.add_argument("urdf", type=Path, nargs="+", help="the description file(s) to check")
     p.add_argument("--format", choices=FORMATS, default="text",
                    help="what goes to stdout: text (tables), json, sarif (SARIF 2.1.0) or "
@@ -57,7 +65,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--strict", action="store_true", help="warnings also make the exit code 1")
     p.add_argument("--no-geometry", action="store_true",
                    help="check the written values only; read no mesh (skips CoM-in-box, "
-                        "density and tensor-size checks)")
+                        "density and tensor-size checks, and fix's plan; unread meshes then "
+                        "do not fail the run)")
     p.add_argument("--show-info", action="store_true",
                    help="also list info findings (lumped masses, massless frames)")
     p.add_argument("--skip-unknown-formats", action="store_true",
