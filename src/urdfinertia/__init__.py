@@ -3,18 +3,27 @@
 The public API, imported on first use (``import urdfinertia`` loads neither lxml nor
 trimesh nor numpy)::
 
-    from urdfinertia import FixOptions, fix_file
-    result = fix_file("robot.urdf", FixOptions())
-    print(result.changed, [r.status for r in result.links])
+    import urdfinertia
+    result = urdfinertia.fix("robot.urdf")          # the command line's defaults
+    print(result.changed, [(r.name, r.status, r.why) for r in result.links])
+    print(urdfinertia.check("robot.urdf").findings)  # geometry read, as the CLI does
 
 =====================  ===================================================================
+``check``              lint a file -> ``CheckResult`` (findings and every link's verdict)
+``fix``                fix a file (keyword options) -> ``FixResult`` (patched bytes in it)
+``compare``            written inertials against the geometry or another file
+``explain``            one link: what ``fix`` writes and its geometry element by element
+``report``             the HTML report -> ``Report`` (``.html``, ``.save(path)``)
+``LinkResult``         one link's verdict: findings, ``Action``, reason, before/after ...
+``Status``, ``Action`` what happened to a link, what the policy decided (string Enums)
+``Finding``            one finding, with its rule id
 ``MassProperties``     the frozen value type: mass, CoM, inertia about the CoM in one frame
 ``combine``            the sum of bodies about their common CoM (Huygens-Steiner)
 ``read_description``   a description file -> (robot model, original bytes), any format
 ``FixOptions``         what to compute from (geometry, mass policy, density, spec ...)
 ``fix_file``           recompute a file's inertials -> ``FixResult`` (patched bytes in it)
 ``fix_robot``          the same for a robot model already read
-``check_robot``        lint a robot's inertials -> findings
+``check_robot``        lint a robot already read -> findings (geometry read by default)
 ``load_spec``          read a decomposition spec (TOML)
 ``repair_tensor``      the minimal lift that makes an invalid tensor valid
 =====================  ===================================================================
@@ -38,6 +47,17 @@ _API = {
     "fix_robot": "urdfinertia.link.fix",
     "load_spec": "urdfinertia.link.spec",
     "check_robot": "urdfinertia.analysis.check",
+    "CheckResult": "urdfinertia.analysis.check",
+    "Finding": "urdfinertia.link.findings",
+    "LinkResult": "urdfinertia.link.results",
+    "Status": "urdfinertia.link.results",
+    "Action": "urdfinertia.link.results",
+    "check": "urdfinertia.api",
+    "fix": "urdfinertia.api",
+    "compare": "urdfinertia.api",
+    "explain": "urdfinertia.api",
+    "report": "urdfinertia.api",
+    "Report": "urdfinertia.api",
 }
 __all__ = sorted(_API)
 

@@ -49,7 +49,7 @@ def write(tmp_path: Path, text: str, name: str = "r.urdf") -> Path:
 
 def findings(path: Path, geometry: bool = True):
     rob, _ = read_urdf_lenient(path)
-    return check_robot(rob, meshes=MeshLibrary() if geometry else None)
+    return check_robot(rob, meshes=MeshLibrary() if geometry else None, geometry=geometry)
 
 
 def codes(found, severity: str | None = None) -> set[tuple[str | None, str]]:
@@ -216,12 +216,17 @@ def test_implausible_density(tmp_path, mass, hint):
     assert exit_code(path, "--strict") == 1
 
 
-def test_missing_mesh_is_a_warning_not_a_crash(tmp_path):
+def test_missing_mesh_is_a_warning_not_a_crash(tmp_path, capsys):
     text = robot(link("arm", inertial()), joint("arm")).replace(
         f'<box size="{BOX} {BOX} {BOX}"/>', '<mesh filename="nowhere.stl"/>')
     path = write(tmp_path, text)
     assert ("arm", "geometry-unreadable") in codes(findings(path), "warning")
-    assert exit_code(path) == 0
+    # the geometry checks were asked for and could not be done: not verified, exit 1
+    capsys.readouterr()
+    assert exit_code(path) == 1
+    out = capsys.readouterr().out
+    assert "not verified: 1 mesh unresolved or unreadable in 1 link: pass --package-dir" \
+        in out
     # a reference that does not resolve is a warning even when no mesh is read (issue 13)
     assert exit_code(path, "--no-geometry") == 0
     assert exit_code(path, "--no-geometry", "--strict") == 1

@@ -145,10 +145,22 @@ def test_exact_inertial_matches_the_geometry(tmp_path):
     assert c.com_distance < 1e-12 and c.inertia_rel_error < 1e-12
 
 
-def test_wrong_tensor_differs_from_the_geometry(tmp_path):
+def test_plausible_tensor_beyond_tolerance_is_kept_not_differs(tmp_path):
+    # 30 % off the homogeneous cube: beyond the 10 % tolerance, but plausible, so fix keeps
+    # it; compare says so rather than "differs" (the homogeneous solid is a model)
     (c,) = compare_with_geometry(cube(tmp_path, "c.urdf", scale=1.3), FixOptions())
-    assert c.verdict == "differs" and c.inertia_rel_error == pytest.approx(0.3 / 1.3,
+    assert c.verdict == "kept" and c.inertia_rel_error == pytest.approx(0.3 / 1.3,
+                                                                          rel=1e-9)
+    assert c.decision == "would be kept: plausible"
+    assert c.fix is not None and c.fix.action == "keep"
+
+
+def test_wrong_tensor_differs_from_the_geometry(tmp_path):
+    # 300x the cube's tensor: beyond what the geometry allows, so fix recomputes it
+    (c,) = compare_with_geometry(cube(tmp_path, "c.urdf", scale=300.0), FixOptions())
+    assert c.verdict == "differs" and c.inertia_rel_error == pytest.approx(299 / 300,
                                                                              rel=1e-9)
+    assert c.decision == "would be recomputed: inertia-vs-geometry"
 
 
 def test_compare_two_files(tmp_path):
@@ -169,20 +181,25 @@ def test_invalid_written_tensor_compares_as_invalid(tmp_path):
 
 
 # --- CLI and plot ------------------------------------------------------------------------
-def test_cli_writes_json_csv_png_and_fails_above(tmp_path):
+def test_cli_writes_json_csv_png_and_fails_above(tmp_path, capsys):
     path = cube(tmp_path, "c.urdf", scale=1.3)
     js, cs, png = tmp_path / "c.json", tmp_path / "c.csv", tmp_path / "c.png"
     argv = ["compare", str(path), "--json", str(js), "--csv", str(cs), "--plot", str(png)]
     assert main(argv) == 0
+    assert f"urdf-inertia: wrote {png}" in capsys.readouterr().err  # where the PNG went
     doc = json.loads(js.read_text())
     (row,) = doc["links"]
-    assert row["verdict"] == "differs" and row["inertia_rel_error"] == pytest.approx(0.3 / 1.3)
+    # 23 % off the homogeneous cube and plausible: fix keeps it, so it does not fail
+    assert row["verdict"] == "kept" and row["inertia_rel_error"] == pytest.approx(0.3 / 1.3)
+    assert row["action"] == "keep" and row["fix"] == "would be kept: plausible"
     (line,) = list(csv.DictReader(cs.open()))
     assert float(line["inertia_rel_error"]) == pytest.approx(0.3 / 1.3)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert main(["compare", str(path), "-q", "--fail-above", "0.5"]) == 0
-    assert main(["compare", str(path), "-q", "--fail-above", "0.2"]) == 1
-    assert main(["compare", str(path), "-q", "--tol-inertia", "0.5"]) == 0
+    assert main(["compare", str(path), "-q", "--fail-above", "0.2"]) == 0
+    # 300x: fix recomputes it, so it differs and fails above the threshold
+    wrong = cube(tmp_path, "w.urdf", scale=300.0)
+    assert main(["compare", str(wrong), "-q", "--fail-above", "0.5"]) == 1
+    assert main(["compare", str(wrong), "-q", "--fail-above", "1.5"]) == 0
 
 
 def test_cli_against_other_file(tmp_path, capsys):

@@ -1,4 +1,5 @@
-"""Which links ``fix`` recomputes by default, and what it keeps (issue 14)."""
+"""Which links ``fix`` recomputes by default, and what it keeps: the expected values are
+written by hand (the README's policy table), never built by the functions under test."""
 
 from __future__ import annotations
 
@@ -9,9 +10,8 @@ import numpy as np
 import pytest
 
 from urdfinertia.cli import main
-from urdfinertia.descriptions.formats import format_of, read_description
 from urdfinertia.inertia import primitives
-from urdfinertia.link.fix import compute_link, fix_file
+from urdfinertia.link.fix import fix_file
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.spec import parse_spec
 
@@ -176,19 +176,106 @@ def test_total_mass_change_is_warned(tmp_path, capsys):
     assert capsys.readouterr().err == ""  # quiet and nothing to warn about
 
 
-def test_all_equals_the_pre_policy_computation(tmp_path):
-    # --all is every link through compute_link and the patch, as before the policy
+def written(data: bytes, name: str) -> tuple[float, list[float], list[float]]:
+    """Mass, CoM and the tensor's (ixx, iyy, izz, ixy, ixz, iyz) of link ``name`` as
+    written in ``data`` (read back, not computed)."""
+    span = inertial_span(data, name).decode()
+
+    def attr(tag: str, key: str) -> str:
+        m = re.search(rf"<{tag}\b[^>]*\b{key}=\"([^\"]*)\"", span)
+        assert m is not None, (tag, key, span)
+        return m.group(1)
+
+    com = [float(x) for x in attr("origin", "xyz").split()]
+    tensor = [float(attr("inertia", k)) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")]
+    return float(attr("mass", "value")), com, tensor
+
+
+#: The box's tensor per kg, by hand: (b^2 + c^2) / 12 etc. for 0.1 x 0.2 x 0.3 m.
+PER_KG = (0.13 / 12, 0.10 / 12, 0.05 / 12)
+
+
+def test_all_recomputes_every_link_with_geometry(tmp_path):
+    # --all: every link with geometry from its geometry, the written mass kept, the CoM the
+    # box centre; the massless cover gets 1000 kg/m^3 x 0.006 m^3 = 6 kg
     text = robot(*CLEAN, link("c", BROKEN["triangle-inequality"]), joint("c", "b"),
                  link("cover"), joint("cover", "b", "fixed"))
     path = write(tmp_path, text)
-    options = FixOptions(recompute="all")
-    robot_, data = read_description(path)
-    old = [compute_link(lk, options, None, path.parent) for lk in robot_.links]  # type: ignore
-    expected = format_of(robot_).patch(data, {r.name: (r.assembly.total, r.size)
-                                              for r in old if r.assembly is not None})
-    assert fix_file(path, options).output == expected
+    out = fix_file(path, FixOptions(recompute="all")).output
+    expected = {"base": 5.0, "a": 1.5, "b": 0.7, "c": 0.7, "cover": 6.0}
+    for name, mass in expected.items():
+        m, com, tensor = written(out, name)
+        assert m == pytest.approx(mass, rel=1e-15) and com == [0.0, 0.0, 0.0]
+        assert tensor[:3] == pytest.approx([mass * k for k in PER_KG], rel=1e-12)
+        assert tensor[3:] == [0.0, 0.0, 0.0]
     assert main(["fix", "--all", str(path), "-q", "-o", str(tmp_path / "o.urdf")]) == 0
-    assert (tmp_path / "o.urdf").read_bytes() == expected
+    assert (tmp_path / "o.urdf").read_bytes() == out
+
+
+#: The README's policy table, one row per case: (link body, geometry, joint kind) ->
+#: (status, decision, mass, CoM, (ixx, iyy, izz)) written by hand. None: kept byte for byte.
+TABLE = {
+    "plausible": ((inertial(0.7), True, "revolute"),
+                  ("kept", "kept: plausible", None)),
+    "missing inertial on a moving link": (("", True, "revolute"), (
+        "recomputed", "recomputed: missing-inertial",
+        (6.0, [0.0, 0.0, 0.0], (0.065, 0.05, 0.025)))),
+    "zero tensor, mass and CoM kept": ((inertial(2.5, com="0.02 -0.03 0.05",
+                                                 diag=("0", "0", "0")), True, "revolute"), (
+        "recomputed", "recomputed: inertia-zero",
+        (2.5, [0.02, -0.03, 0.05], (0.325 / 12, 0.25 / 12, 0.125 / 12)))),
+    "CoM outside the geometry": ((inertial(0.7, com="3 0 0"), True, "revolute"), (
+        "recomputed", "recomputed: com-outside-geometry",
+        (0.7, [0.0, 0.0, 0.0], (0.091 / 12, 0.07 / 12, 0.035 / 12)))),
+    "massless on a fixed joint": (("", True, "fixed"), (
+        "untouched", "massless, on a fixed joint: left as it is", None)),
+    "invalid, no geometry: minimal lift": ((BROKEN["triangle-inequality"], False, "revolute"), (
+        "repaired", "repaired: triangle-inequality; no geometry to recompute from",
+        (0.7, [0.0, 0.0, 0.0], (0.009, 0.001, 0.01)))),
+}
+
+
+@pytest.mark.parametrize("case", sorted(TABLE))
+def test_the_readme_policy_table(tmp_path, case):
+    (body, geometry, kind), (status, decision, values) = TABLE[case]
+    path = write(tmp_path, robot(*CLEAN, link("c", body, geometry=geometry),
+                                 joint("c", "b", kind)))
+    result = fix_file(path, FixOptions())
+    c = result.link("c")
+    assert (c.status, c.decision) == (status, decision)
+    if values is None:
+        assert result.output == path.read_bytes()
+        return
+    mass, com, diag = values
+    m, written_com, tensor = written(result.output, "c")
+    # round-off of the volume's product only (1000 x 0.1 x 0.2 x 0.3 is 6.000000000000001)
+    assert m == pytest.approx(mass, rel=1e-15)
+    assert written_com == pytest.approx(com, abs=1e-15)
+    # the lift leaves a margin of 1e-9 of the largest moment, so that A + B >= C survives
+    # the writing's rounding; the solid's tensors are exact to round-off
+    assert tensor[:3] == pytest.approx(list(diag), rel=1e-8)
+    assert tensor[3:] == pytest.approx([0.0, 0.0, 0.0], abs=1e-15)
+
+
+def test_a_mesh_unit_slip_keeps_the_inertial(tmp_path):
+    # the geometry in millimetres without scale: 0.7 kg in 6e6 m^3 is 1.2e-7 kg/m^3, and
+    # x1e9 gives 117 kg/m^3: the geometry, not the inertial, is wrong
+    path = write(tmp_path, robot(*CLEAN, link("c", inertial(0.7)), joint("c", "b"))
+                 .replace('<box size="0.1 0.2 0.3"/></geometry></collision>\n  </link>\n'
+                          '  <joint name="j_c"',
+                          '<box size="100 200 300"/></geometry></collision>\n  </link>\n'
+                          '  <joint name="j_c"'))
+    result = fix_file(path, FixOptions())
+    assert result.link("c").decision == ("kept: plausible (implausible density explained by "
+                                         "the geometry: mesh in mm without scale 0.001?)")
+    assert result.output == path.read_bytes()
+
+
+def test_a_root_without_inertial_says_how_it_would_be_recomputed(tmp_path):
+    path = write(tmp_path, robot(*CLEAN, base=""))
+    assert fix_file(path, FixOptions()).links[0].decision == (
+        "root link without <inertial>: left as it is (a floating base is recomputed only "
+        "when named)")
 
 
 def test_links_named_in_a_spec_are_always_recomputed(tmp_path):

@@ -79,16 +79,17 @@ def rows_by_name(data):
 
 
 # --- collected data -----------------------------------------------------------------------
-def test_a_right_inertial_gives_two_coinciding_boxes(hand_data):
+def test_a_right_inertial_is_kept_and_matches_the_geometry(hand_data):
+    # the report shows what fix writes: a right inertial is kept, so it has no recomputed
+    # box; compare's geometry side still matches it
     base = rows_by_name(hand_data)["base"]
-    existing, recomputed = (b for b in base.boxes)
-    assert (existing.source, recomputed.source) == ("existing", "recomputed")
+    (existing,) = base.boxes
+    assert existing.source == "existing"
     np.testing.assert_allclose(np.sort(existing.lengths), [0.05, 0.1, 0.2], rtol=1e-9)
     np.testing.assert_allclose(existing.center, [0.0, 0.0, 0.025], atol=1e-12)
-    np.testing.assert_allclose(recomputed.center, existing.center, atol=1e-12)
-    np.testing.assert_allclose(np.sort(recomputed.lengths), np.sort(existing.lengths),
-                               rtol=1e-9)
+    assert base.recomputed is None and base.fix.action == "keep"
     assert base.comparison.verdict == "ok"
+    np.testing.assert_allclose(base.comparison.b.com, existing.center, atol=1e-12)
 
 
 def test_boxes_sit_at_the_zero_configuration(hand_data):
@@ -127,7 +128,8 @@ def test_scene_figure_holds_every_box_and_every_link_geometry(hand_data):
     fig = scene_figure(hand_data)
     n_boxes = {s: sum(b.source == s for r in hand_data.rows for b in r.boxes)
                for s in ("existing", "recomputed")}
-    assert n_boxes == {"existing": 2, "recomputed": 4}
+    # recomputed: what fix writes for the three links it changes (base is kept)
+    assert n_boxes == {"existing": 2, "recomputed": 3}
     for source, n in n_boxes.items():
         mesh = next(t for t in fig.data if t.name == f"{source} inertia boxes")
         assert len(mesh.x) == 8 * n and len(mesh.i) == 12 * n
@@ -201,10 +203,11 @@ def test_table_has_one_row_per_link_with_its_story(hand_html, hand_data):
         text["not_definite"]
     assert "triangle inequality" in text["triangle"]
     assert "no <inertial>" in text[EVIL]
-    assert "collision: 1 part (closed form box)" in text["base"]
-    assert "kept 2 kg" in text["base"]
-    # Both masses of the base are printed: existing then recomputed.
-    assert re.search(r"E 2\s*R 2(?!\d)", text["base"])
+    assert "fix: kept: plausible" in text["base"]
+    # the base is kept as written: its mass as written, and "kept" where fix writes nothing
+    assert re.search(r"E 2\s*R kept", text["base"])
+    assert "fix: repaired" in text["not_definite"] or "fix: recomputed" in \
+        text["not_definite"]
 
 
 def test_page_counts_its_plots_for_whoever_waits_on_them(hand_html):

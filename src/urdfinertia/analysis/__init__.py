@@ -1,5 +1,6 @@
 """Judging inertials: lint them (:mod:`.check`), compare them (:mod:`.compare`), explain
-a link element by element (:mod:`.explain`), and the geometry bounds these use
-(:mod:`.bounds`). May import: :mod:`urdfinertia.link` and everything below it; never
-rendering, batch runs or the CLI.
+a link element by element (:mod:`.explain`). Each renders the links' verdicts that
+:func:`urdfinertia.link.fix.link_verdicts` computes, the ones ``fix`` carries out.
+May import: :mod:`urdfinertia.link` and everything below it; never rendering, batch runs
+or the CLI.
 """

@@ -1,9 +1,15 @@
 """The ``check`` job: lint the inertials as written, per link, with a severity.
 
-Without a :class:`MeshLibrary` only the values themselves are checked (nothing is
-computed). With one, the link's geometry is read for the checks that need it: CoM inside
-the geometry's bounding box, implied density, and the tensor's size against what the
-geometry allows for the written mass.
+``check`` is ``fix``'s plan without writing: with geometry (the default) its findings are
+those of the links' verdicts (:func:`urdfinertia.link.fix.link_verdicts`), the very
+objects ``fix`` carries out, so what ``check`` says ``fix`` would recompute is what ``fix``
+recomputes. The link's geometry is read for the checks that need it: CoM inside the
+geometry's bounding box, implied density, and the tensor's size against what the geometry
+allows for the written mass. ``geometry=False`` checks the written values alone.
+
+A link whose geometry could not be read (a mesh that does not resolve or read) was not
+verified: :attr:`CheckResult.unverified` lists them, and :meth:`CheckResult.exit_code`
+counts them as a failure, since the check could not do what it was asked.
 
 Severities: "error" (a simulator refuses or misbehaves), "warning" (very likely wrong),
 "info" (worth knowing, e.g. masses lumped by fixed joints).
@@ -11,6 +17,7 @@ Severities: "error" (a simulator refuses or misbehaves), "warning" (very likely 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -18,10 +25,8 @@ import numpy as np
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
-from urdfinertia.descriptions.model import Link, Robot
-from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.descriptions.model import Robot
 from urdfinertia.inertia.massprops import MassProperties, combine
-from urdfinertia.link.bounds import BoundsCache
 
 # Findings and their rule ids, and the per-link rules, live one layer down, where
 # ``fix``'s policy uses them too.
@@ -32,6 +37,7 @@ from urdfinertia.link.findings import (  # noqa: F401  (re-exported: check's API
     Rule,
     rule_of,
 )
+from urdfinertia.link.fix import link_verdicts
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.plausibility import (  # noqa: F401  (re-exported: check's API)
     ABSURD_MASS,
@@ -41,27 +47,86 @@ from urdfinertia.link.plausibility import (  # noqa: F401  (re-exported: check's
     INERTIA_RATIO_LIMIT,
     _moments,
     geometry_findings,
+    reference_findings,
     value_findings,
 )
+from urdfinertia.link.results import LinkResult, Status
+
+
+@dataclass(frozen=True, eq=False)
+class CheckResult:
+    """What ``check`` found in one description, and what ``fix`` would do about it.
+
+    links : every link's verdict (empty with ``geometry=False``: nothing was planned).
+    findings : the robot's findings in link order, lumping notes last.
+    """
+
+    path: Path
+    robot: Robot
+    links: tuple[LinkResult, ...]
+    findings: tuple[Finding, ...]
+
+    @property
+    def would_recompute(self) -> tuple[str, ...]:
+        """Links ``fix`` (these options) would recompute from their geometry or spec."""
+        return tuple(r.name for r in self.links if r.status == Status.RECOMPUTED)
+
+    @property
+    def would_change(self) -> tuple[str, ...]:
+        """Links whose inertial ``fix`` would change (recomputed or repaired)."""
+        return tuple(r.name for r in self.links if r.changed)
+
+    @property
+    def unverified(self) -> tuple[LinkResult, ...]:
+        """Links some of whose geometry could not be read: they were not verified."""
+        return tuple(r for r in self.links if r.unverified)
+
+    def counts(self) -> dict[str, int]:
+        """Findings by severity."""
+        return {s: sum(f.severity == s for f in self.findings) for s in SEVERITIES}
+
+    def exit_code(self, strict: bool = False) -> int:
+        """1 when an error (a warning too with ``strict``) was found or a link could not be
+        verified, else 0 (the command line's exit code without a baseline)."""
+        bad = {"error", "warning"} if strict else {"error"}
+        return 1 if self.unverified or any(f.severity in bad for f in self.findings) else 0
 
 
 def check_robot(robot: Robot, *, meshes: MeshLibrary | None = None,
-                options: FixOptions | None = None) -> list[Finding]:
-    """All findings for ``robot``, in link order, lumping notes last."""
+                options: FixOptions | None = None, geometry: bool = True) -> list[Finding]:
+    """All findings for ``robot``, in link order, lumping notes last.
+
+    With ``geometry`` (the default) the links' geometry is read (through ``meshes``, a new
+    library when None) and the findings are those ``fix`` acts on; without it only the
+    written values and mesh references are checked.
+    """
+    return list(check_description(robot, meshes=meshes, options=options,
+                                  geometry=geometry).findings)
+
+
+def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
+                      options: FixOptions | None = None,
+                      geometry: bool = True) -> CheckResult:
+    """``check`` of a robot already read: findings and every link's verdict."""
     options = options or FixOptions()
     kin = Kinematics(robot)
     urdf_dir = robot.path.parent if robot.path is not None else Path(".")
-    cache = BoundsCache(meshes) if meshes is not None else None
-    findings: list[Finding] = []
-    findings.extend(problem_findings(robot))
-    for link in robot.links:
-        findings.extend(value_findings(link, kin, robot))
-        findings.extend(reference_findings(link, options, urdf_dir))
-        if meshes is not None and cache is not None and link.inertial is not None:
-            findings.extend(geometry_findings(link, meshes, cache, options, urdf_dir))
+    path = robot.path or Path("robot.urdf")
+    findings: list[Finding] = list(problem_findings(robot))
+    links: tuple[LinkResult, ...] = ()
+    if geometry:
+        if meshes is None:
+            meshes = MeshLibrary(options.package_dirs, options.max_faces)
+        links = link_verdicts(robot, options, meshes)
+        for r in links:
+            findings.extend(r.findings)
+    else:
+        for link in robot.links:
+            findings.extend(value_findings(link, kin, robot))
+            findings.extend(reference_findings(link, options, urdf_dir))
     for group in kin.groups.values():
         findings.extend(lumped_findings(group, robot))
-    return findings
+    return CheckResult(path, robot, links, tuple(findings))
 
 
 #: Severity and finding code of each problem the reader read past (what other loaders do
@@ -87,23 +152,6 @@ def problem_findings(robot: Robot) -> list[Finding]:
         where = f"line {p.line}: " if p.line is not None else ""
         element = f"{p.element}: " if p.element else ""
         out.append(Finding(p.link, severity, code, f"{where}{element}{p.cause}", p.line))
-    return out
-
-
-def reference_findings(link: Link, options: FixOptions, urdf_dir: Path) -> list[Finding]:
-    """Mesh references that do not resolve to a file (loaders fail on them)."""
-    from urdfinertia.descriptions.model import Mesh
-    from urdfinertia.descriptions.paths import resolve_mesh_path
-
-    out = []
-    for ref in (*link.collisions, *link.visuals):
-        if not isinstance(ref.shape, Mesh):
-            continue
-        try:
-            resolve_mesh_path(ref.shape.filename, urdf_dir, options.package_dirs)
-        except UrdfInertiaError as exc:
-            out.append(Finding(link.name, "warning", "mesh-unresolved",
-                               f"line {ref.line}: {ref.label}: {exc.cause}", ref.line))
     return out
 
 

@@ -16,6 +16,13 @@ Metrics (each None when a side lacks what it needs):
   principal), so it is taken at its best choice: the angle from the other side's axis to that
   plane. A (nearly) isotropic tensor has every axis principal, so it agrees with anything (0).
 
+Against the geometry, every link also carries ``fix``'s decision (its verdict, the one
+``check``, ``fix``, ``report`` and the library give). Side B stays the homogeneous
+geometry's value, but a link beyond tolerance that ``fix`` keeps (plausible as written, or
+geometry that is not the body) gets the verdict "kept", not "differs": the homogeneous
+model is a model, and what the user acts on is what ``fix`` would change. ``--fail-above``
+counts only "differs" and "invalid" links.
+
 The maths here is numpy only; :func:`compare_with_geometry` and :func:`compare_files` only
 read files and run :mod:`fix`.
 """
@@ -36,12 +43,12 @@ from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.link.fix import fix_robot
+from urdfinertia.link.fix import fix_robot, link_verdicts
 
 #: Principal moments closer than this fraction of the largest count as equal (degenerate).
 from urdfinertia.link.options import FixOptions
-from urdfinertia.link.policy import every_link, plan_robot
-from urdfinertia.link.results import FixResult
+from urdfinertia.link.policy import every_link
+from urdfinertia.link.results import FixResult, LinkResult
 
 #: Moments within a few percent give axes that swing with any perturbation of that size.
 DEGENERATE_RTOL = 0.05
@@ -49,7 +56,9 @@ DEGENERATE_RTOL = 0.05
 DEFAULT_TOL_COM = 0.05
 DEFAULT_TOL_INERTIA = 0.10
 DEFAULT_TOL_MASS = 0.05
-VERDICTS = ("ok", "differs", "invalid", "missing")
+VERDICTS = ("ok", "differs", "kept", "invalid", "missing")
+#: Verdicts that say the written inertial needs attention (``--fail-above`` counts these).
+FAILING = ("differs", "invalid")
 
 
 @dataclass(frozen=True, eq=False)
@@ -71,6 +80,8 @@ class LinkComparison:
     moments_b: np.ndarray | None = None
     #: what ``fix`` would do with the link (:mod:`urdfinertia.link.policy`); geometry only
     decision: str = ""
+    #: the link's verdict under the default policy (geometry only)
+    fix: LinkResult | None = None
 
     def score(self, tol_com: float = DEFAULT_TOL_COM,
               tol_inertia: float = DEFAULT_TOL_INERTIA) -> float:
@@ -210,21 +221,29 @@ def compare_raw(link: str, a: RawInertial | None, b: RawInertial | None, *,
 
 
 # --- jobs ----------------------------------------------------------------------------
-def compare_with_geometry(path: str | Path, options: FixOptions,
+def compare_with_geometry(path: str | Path, options: FixOptions | None = None,
                           fix_result: FixResult | None = None, *,
                           tol_com: float = DEFAULT_TOL_COM,
                           tol_inertia: float = DEFAULT_TOL_INERTIA,
-                          tol_mass: float = DEFAULT_TOL_MASS) -> list[LinkComparison]:
-    """Existing inertials (A) against the ones computed from geometry by ``fix`` (B).
+                          tol_mass: float = DEFAULT_TOL_MASS,
+                          verdicts: Sequence[LinkResult] | None = None,
+                          meshes: MeshLibrary | None = None) -> list[LinkComparison]:
+    """Existing inertials (A) against the ones computed from geometry (B), with ``fix``'s
+    decision for each link.
 
+    ``fix_result``: the geometry's values for every link (``fix`` with every link asked
+    for), when already computed; ``verdicts``: the links' verdicts under ``options``.
     Links with neither an inertial nor geometry are left out.
     """
-    # B is the geometry's value for every link; the default policy's decision goes alongside
-    meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    options = options or FixOptions()
+    if meshes is None:
+        meshes = MeshLibrary(options.package_dirs, options.max_faces)
     if fix_result is None:
         robot, data = read_description(path, lenient=True)
         fix_result = fix_robot(robot, data, every_link(options), meshes)
-    plan = plan_robot(fix_result.robot, options, meshes)
+    if verdicts is None:
+        verdicts = link_verdicts(fix_result.robot, options, meshes)
+    by_name = {v.name: v for v in verdicts}
     out = []
     for r in fix_result.links:
         a = RawInertial.from_inertial(r.previous) if r.previous is not None else None
@@ -235,7 +254,10 @@ def compare_with_geometry(path: str | Path, options: FixOptions,
         c = compare_raw(r.name, a, b, tol_com=tol_com, tol_inertia=tol_inertia,
                         tol_mass=tol_mass, missing_a="no <inertial> in the file",
                         missing_b="no geometry to compute from")
-        out.append(replace(c, decision=plan[r.name].describe(done=False)))
+        v = by_name[r.name]
+        if c.verdict == "differs" and not v.changed:
+            c = replace(c, verdict="kept")
+        out.append(replace(c, decision=v.planned, fix=v))
     return out
 
 
@@ -310,6 +332,7 @@ def comparison_dict(c: LinkComparison) -> dict[str, Any]:
                 "principal_moments": mp.principal()[0].tolist()}
 
     return {"link": c.link, "verdict": c.verdict, "note": c.note, "fix": c.decision,
+            "action": str(c.fix.action) if c.fix is not None and c.fix.action else None,
             "mass_ratio": num(c.mass_ratio), "com_distance": num(c.com_distance),
             "com_distance_rel": num(c.com_distance_rel),
             "inertia_rel_error": num(c.inertia_rel_error),

@@ -7,12 +7,18 @@ link: ``e_k^T I_p,s e_k / lambda_k`` for the link's principal axes e_k and momen
 lambda_k. Since ``sum_p I_p,s = I_s`` (eq. 44), the shares of all elements add up to 1 on
 every axis. Cavities have negative mass and negative shares.
 
+The link's total is what ``fix`` writes (its verdict, :func:`urdfinertia.link.fix.link_verdict`):
+the kept CoM where ``fix`` keeps it, the written values of a link ``fix`` keeps. The
+elements are the geometry's homogeneous model, taken about the geometry's own centroid
+(where eq. 44 holds), whatever ``fix`` decided.
+
 No printing here: :mod:`urdfinertia.render.table` renders a :class:`Breakdown`,
 :func:`breakdown_dict` makes it JSON-ready.
 """
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,8 +31,10 @@ from urdfinertia.descriptions.model import Robot
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
 from urdfinertia.link.assemble import PartResult
-from urdfinertia.link.fix import compute_link
+from urdfinertia.link.compute import compute_link
+from urdfinertia.link.fix import link_verdict
 from urdfinertia.link.options import FixOptions
+from urdfinertia.link.policy import every_link
 from urdfinertia.link.results import LinkResult
 
 
@@ -66,16 +74,23 @@ class ElementBreakdown:
 
 @dataclass(frozen=True, eq=False)
 class Breakdown:
-    """A link's total and its elements' and parts' contributions."""
+    """A link's total (what ``fix`` writes) and its elements' and parts' contributions.
+
+    geometry_total : the homogeneous geometry's own mass properties (the elements' sum).
+    decision : what ``fix`` does with the link ("kept: plausible", ...).
+    """
 
     link: str
     geometry: str  # "spec" | "collision" | "visual"
     mass_source: str
     total: MassProperties
-    moments: np.ndarray  # (3,) principal moments, ascending, kg m^2
+    moments: np.ndarray  # (3,) principal moments of ``total``, ascending, kg m^2
     axes: np.ndarray  # (3, 3) principal axes as columns, in the link frame
     elements: tuple[ElementBreakdown, ...]
     warnings: tuple[str, ...] = ()
+    geometry_total: MassProperties | None = None
+    decision: str = ""
+    verdict: LinkResult | None = None
 
 
 def _share(inertia_link: np.ndarray, moments: np.ndarray, axes: np.ndarray) -> np.ndarray:
@@ -98,46 +113,66 @@ def _contribution(name: str, bodies: Sequence[MassProperties], link_com: np.ndar
                         _share(inertia_link, moments, axes), volume, **extra)
 
 
-def link_breakdown(result: LinkResult) -> Breakdown:
-    """The breakdown of a recomputed link (elements in first-seen order)."""
+def link_breakdown(result: LinkResult, verdict: LinkResult | None = None) -> Breakdown:
+    """The breakdown of a link computed from its parts (elements in first-seen order).
+
+    ``verdict``: the link's verdict under the policy, whose values (what ``fix`` writes)
+    become the total; by default ``result``'s own.
+    """
     if result.assembly is None:
         raise UrdfInertiaError("link has no geometry and no spec entry: nothing to explain",
                                link=result.name)
-    total = result.assembly.total
-    moments, axes = total.principal()
+    verdict = verdict or result
+    try:
+        own = combine([pr.mass_properties for pr in result.assembly.parts])
+    except ValueError:  # no parts (a repaired link) or masses that cancel
+        own = result.assembly.total
+    # the elements about the geometry's own centroid, where their shares add up to 1
+    moments, axes = own.principal()
+    total = verdict.after or result.assembly.total
     groups: dict[str, list[PartResult]] = {}
     for pr in result.assembly.parts:
         groups.setdefault(pr.part.element, []).append(pr)
     elements = []
     for name, prs in groups.items():
         parts = tuple(
-            _contribution(pr.part.name, [pr.mass_properties], total.com, moments, axes,
+            _contribution(pr.part.name, [pr.mass_properties], own.com, moments, axes,
                           -pr.part.volume if pr.part.cavity else pr.part.volume,
                           density=pr.density, method=pr.part.method, cavity=pr.part.cavity)
             for pr in prs)
-        element = _contribution(name, [pr.mass_properties for pr in prs], total.com, moments,
+        element = _contribution(name, [pr.mass_properties for pr in prs], own.com, moments,
                                 axes, sum(p.volume for p in parts))
         elements.append(ElementBreakdown(element, parts))
-    return Breakdown(result.name, result.geometry, str(result.assembly.mass_source), total, moments,
-                     axes, tuple(elements), result.warnings)
+    total_moments, total_axes = total.principal()
+    return Breakdown(result.name, result.geometry, str(result.assembly.mass_source), total,
+                     total_moments, total_axes, tuple(elements), result.warnings,
+                     geometry_total=own, decision=verdict.decision, verdict=verdict)
 
 
-def explain_link(robot: Robot, name: str, options: FixOptions,
+def explain_link(robot: Robot, name: str, options: FixOptions | None = None,
                  meshes: MeshLibrary | None = None) -> Breakdown:
-    """Compute link ``name`` of ``robot`` as ``fix`` would and break it down."""
+    """Link ``name`` of ``robot`` as ``fix`` decides it, broken down into its geometry.
+
+    The total is what ``fix`` writes; the elements are the geometry's (or spec's) parts.
+    A wrong name raises an error naming the nearest link names.
+    """
+    options = options or FixOptions()
     path = robot.path or Path("robot.urdf")
     names = [link.name for link in robot.links]
     if name not in names:
-        raise UrdfInertiaError(f"no link named '{name}' (links: {', '.join(names)})",
+        near = difflib.get_close_matches(name, names, n=3, cutoff=0.0)
+        raise UrdfInertiaError(f"no link named '{name}' (did you mean: {', '.join(near)}?)",
                                file=path)
-    if options.spec is not None:
-        options.spec.check_links(robot)
     if meshes is None:
         meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    verdict = link_verdict(robot, name, options, meshes)
     link = robot.link(name)
     try:
-        result = compute_link(link, options, meshes, path.parent)
-        return link_breakdown(result)
+        if verdict.assembly is not None and verdict.assembly.parts:
+            return link_breakdown(verdict)
+        # fix keeps or repairs the link: its parts are the geometry's, the total fix's
+        result = compute_link(link, every_link(options), meshes, path.parent)
+        return link_breakdown(result, verdict)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path, link=name) from None
 
@@ -175,4 +210,8 @@ def breakdown_dict(b: Breakdown) -> dict[str, Any]:
         "elements": [{**contribution_dict(e.element),
                       "parts": [contribution_dict(p) for p in e.parts]} for e in b.elements],
         "warnings": list(b.warnings),
+        "decision": b.decision,
+        "geometry_total": None if b.geometry_total is None else {
+            "mass": b.geometry_total.mass, "com": b.geometry_total.com.tolist(),
+            "inertia": _tensor(b.geometry_total.inertia)},
     }

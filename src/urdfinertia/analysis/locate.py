@@ -19,6 +19,7 @@ from pathlib import Path
 
 from urdfinertia.analysis.check import Finding
 from urdfinertia.descriptions.model import Robot
+from urdfinertia.link.results import LinkResult
 
 #: Element names that carry a link's name in the registered formats (URDF/SDF ``link``,
 #: MJCF ``body``).
@@ -42,6 +43,17 @@ class CheckedFile:
     findings: list[Finding]
     locations: list[Location]
     known: list[bool]
+    #: links some of whose geometry could not be read (not verified)
+    unverified: frozenset[str] = frozenset()
+    #: every link's verdict (what ``fix`` would do), when the geometry was read
+    verdicts: tuple[LinkResult, ...] = ()
+
+    def decision_of(self, link: str | None) -> str | None:
+        """What ``fix`` would do with ``link``, in the words every command uses."""
+        for r in self.verdicts:
+            if r.name == link:
+                return r.planned
+        return None
 
     @property
     def new(self) -> list[Finding]:

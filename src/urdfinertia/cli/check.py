@@ -1,8 +1,15 @@
 """``urdf-inertia check``: lint inertials as written; exit 1 when problems are found.
 
-Exit codes: 0 clean, 1 errors (or warnings with ``--strict``) that a ``--baseline`` does
-not know, 2 unreadable input (any :class:`UrdfInertiaError`, printed as one line by
-:mod:`cli`). ``--write-baseline`` exits 0: everything found is then known.
+``check`` is ``fix``'s plan without writing: it prints the same verdicts ``fix`` carries
+out (:func:`urdfinertia.analysis.check.check_description`).
+
+Exit codes: 0 clean; 1 errors (or warnings with ``--strict``) that a ``--baseline`` does
+not know, or a link that could not be verified: geometry checks were asked for (the
+default) and some of its geometry could not be read (a mesh reference that does not
+resolve or a mesh that cannot be read), unless a baseline knows that finding; 2 unreadable
+input (any :class:`UrdfInertiaError`, printed as one line by :mod:`cli`).
+``--write-baseline`` exits 0: everything found is then known. ``--no-geometry`` asks for
+the written values only, so unread meshes do not fail it.
 """
 
 from __future__ import annotations
@@ -18,7 +25,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from urdfinertia.analysis.baseline import Baseline, write_baseline
-from urdfinertia.analysis.check import SEVERITIES, Finding, check_robot
+from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
 from urdfinertia.analysis.locate import CheckedFile, locate_all
 from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.cache.library import MeshLibrary
@@ -35,7 +42,15 @@ from urdfinertia.render.sarif import sarif_document
 FORMATS = ("text", "json", "sarif", "github")
 
 
+EPILOG = ("check is fix's plan without writing: it lists what fix would do with every link "
+          "that has findings. Exit codes: 0 clean; 1 an error (a warning too with --strict) "
+          "that no --baseline knows, or a link that was not verified because some of its "
+          "geometry could not be read (pass --package-dir NAME=PATH, or --no-geometry to "
+          "check the written values only); 2 unreadable input.")
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.epilog = EPILOG
     p.add_argument("urdf", type=Path, nargs="+", help="the description file(s) to check")
     p.add_argument("--format", choices=FORMATS, default="text",
                    help="what goes to stdout: text (tables), json, sarif (SARIF 2.1.0) or "
@@ -50,7 +65,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--strict", action="store_true", help="warnings also make the exit code 1")
     p.add_argument("--no-geometry", action="store_true",
                    help="check the written values only; read no mesh (skips CoM-in-box, "
-                        "density and tensor-size checks)")
+                        "density and tensor-size checks, and fix's plan; unread meshes then "
+                        "do not fail the run)")
     p.add_argument("--show-info", action="store_true",
                    help="also list info findings (lumped masses, massless frames)")
     p.add_argument("--skip-unknown-formats", action="store_true",
@@ -61,9 +77,20 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-q", "--quiet", action="store_true", help="print only the summary line")
 
 
-def exit_code(findings: list[Finding], strict: bool) -> int:
+def exit_code(findings: list[Finding], strict: bool, unverified: bool = False) -> int:
+    """1 on an error (a warning too with ``strict``) or when something was not verified."""
     bad = {"error", "warning"} if strict else {"error"}
-    return 1 if any(f.severity in bad for f in findings) else 0
+    return 1 if unverified or any(f.severity in bad for f in findings) else 0
+
+
+#: Finding codes that say a link's geometry could not be read.
+UNREAD_CODES = frozenset({"mesh-unresolved", "geometry-unreadable"})
+
+
+def unverified_unknown(cf: CheckedFile) -> bool:
+    """Some link was not verified and the baseline does not know why."""
+    return any(f.code in UNREAD_CODES and f.link in cf.unverified
+               for f in cf.new)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -80,16 +107,19 @@ def run(args: argparse.Namespace) -> int:
         if args.skip_unknown_formats and not is_description(data, path):
             continue
         robot = robot_from_bytes(data, path, lenient=True)
-        findings = check_robot(robot, meshes=meshes, options=options)
+        result = check_description(robot, meshes=meshes, options=options,
+                                   geometry=meshes is not None)
+        findings = list(result.findings)
         if engines is not None:
             findings += engines.findings(path, robot, options.package_dirs)
         checked.append(CheckedFile(path, robot, findings, locate_all(robot, data, findings),
-                                   baseline.mark(findings, path)))
-        if meshes is not None:  # what fix would do, by the same rules
-            from urdfinertia.link.policy import plan_robot
-
-            plans[path] = plan_robot(robot, options, meshes)
-    code = max((exit_code(cf.new, args.strict) for cf in checked), default=0)
+                                   baseline.mark(findings, path),
+                                   frozenset(r.name for r in result.unverified),
+                                   result.links))
+        if result.links:  # what fix would do: the verdicts fix carries out
+            plans[path] = result.links
+    code = max((exit_code(cf.new, args.strict, unverified_unknown(cf)) for cf in checked),
+               default=0)
     if args.write_baseline is not None:
         n = write_baseline(args.write_baseline, [(cf.path, cf.findings) for cf in checked])
         print(f"{args.write_baseline}: baseline of {n} finding(s) written", file=sys.stderr)
@@ -132,6 +162,9 @@ def print_report(args: argparse.Namespace, checked: list[CheckedFile], doc: dict
         if not (args.quiet and args.format != "text"):
             console.print(summary_line(str(cf.path), len(cf.robot.links), cf.findings,
                                        sum(cf.known)), markup=False, highlight=False)
+            unread = unverified_line(plans.get(cf.path, ()) if plans else ())
+            if unread is not None:
+                console.print(unread, markup=False, highlight=False)
 
 
 def json_document(checked: list[CheckedFile], code: int, strict: bool,
@@ -141,14 +174,23 @@ def json_document(checked: list[CheckedFile], code: int, strict: bool,
     report = []
     for cf in checked:
         rows = [{**vars(f), "rule": f.rule.id, "line": loc.line, "column": loc.column,
-                 "known": known}
+                 "known": known, "fix": cf.decision_of(f.link)}
                 for f, loc, known in zip(cf.findings, cf.locations, cf.known, strict=True)]
         report.append({"file": str(cf.path), "robot": cf.robot.name,
                        "links": len(cf.robot.links), "counts": severity_counts(cf.findings),
                        "findings": rows})
         if plans and cf.path in plans:
             report[-1]["fix_plan"] = plan_dict(plans[cf.path])
+            report[-1]["unverified"] = [r.name for r in plans[cf.path] if r.unverified]
     return {"exit_code": code, "strict": strict, "files": report}
+
+
+def unverified_line(verdicts) -> str | None:
+    """The one summary line of what could not be verified, with how to fix it."""
+    from urdfinertia.render.decisions import unverified_summary
+
+    line = unverified_summary(verdicts)
+    return None if line is None else f"{line}: pass --package-dir NAME=PATH"
 
 
 def severity_counts(findings: list[Finding]) -> dict[str, int]:

@@ -1,4 +1,9 @@
-"""``urdf-inertia compare``: existing inertials against the geometry or another URDF."""
+"""``urdf-inertia compare``: existing inertials against the geometry or another URDF.
+
+Against the geometry each link shows what ``fix`` would do with it; a link beyond
+tolerance that ``fix`` keeps is "kept", not "differs" (the homogeneous geometry is a
+model), and ``--fail-above`` counts only links that differ or are invalid.
+"""
 
 from __future__ import annotations
 
@@ -7,6 +12,7 @@ import csv
 import io
 import json
 import math
+import sys
 from pathlib import Path
 
 from rich.table import Table
@@ -15,6 +21,7 @@ from urdfinertia.analysis.compare import (
     DEFAULT_TOL_COM,
     DEFAULT_TOL_INERTIA,
     DEFAULT_TOL_MASS,
+    FAILING,
     LinkComparison,
     compare_files,
     compare_with_geometry,
@@ -46,7 +53,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    f"(default {DEFAULT_TOL_MASS:g})")
     p.add_argument("--fail-above", type=positive_float, metavar="FRACTION",
                    help="exit 1 when a link's CoM distance / size, tensor error or "
-                        "|mass ratio - 1| exceeds FRACTION, or a side is invalid")
+                        "|mass ratio - 1| exceeds FRACTION, or a side is invalid; against "
+                        "the geometry, links fix keeps as written do not count")
     p.add_argument("--all", action="store_true", help="table: also list links that are ok")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="no table on the terminal, only the summary line")
@@ -86,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
                         tol_inertia=args.tol_inertia, title=str(args.urdf.name))
         except OSError as exc:
             raise OutputError(f"cannot write: {exc.strerror or exc}", file=args.plot) from None
+        print(f"urdf-inertia: wrote {args.plot}", file=sys.stderr)
     from urdfinertia.render.console import output_console
 
     console = output_console()
@@ -96,7 +105,8 @@ def run(args: argparse.Namespace) -> int:
         console.print(comparison_table(shown, title))
     console.print(summary_line(stats), soft_wrap=True)
     if args.fail_above is not None:
-        failing = [c for c in comparisons if worst_error(c) > args.fail_above]
+        failing = [c for c in comparisons
+                   if c.verdict in FAILING and worst_error(c) > args.fail_above]
         if failing:
             console.print(f"{len(failing)} link(s) above --fail-above {args.fail_above:g}")
             return 1
@@ -116,7 +126,8 @@ def comparison_table(comparisons: list[LinkComparison], title: str) -> Table:
     for col in ("link", "verdict", "mass B/A", "CoM dist mm", "CoM/size", "tensor err",
                 "principal moments A", "principal moments B", "axes deg", "note"):
         table.add_column(col, overflow="fold")
-    style = {"ok": "green", "differs": "yellow", "invalid": "red", "missing": "dim"}
+    style = {"ok": "green", "differs": "yellow", "kept": "cyan", "invalid": "red",
+             "missing": "dim"}
     for c in comparisons:
         table.add_row(
             c.link, f"[{style[c.verdict]}]{c.verdict}[/]", _g(c.mass_ratio, ".4g"),
@@ -130,7 +141,8 @@ def comparison_table(comparisons: list[LinkComparison], title: str) -> Table:
 def summary_line(stats: dict) -> str:
     v = stats["verdicts"]
     med = stats["median"]
-    counts = ", ".join(f"{v.get(k, 0)} {k}" for k in ("ok", "differs", "invalid", "missing"))
+    counts = ", ".join(f"{v.get(k, 0)} {k}" for k in ("ok", "differs", "kept", "invalid",
+                                                       "missing") if k != "kept" or k in v)
     worst = stats["worst"]
     worst_i = ", ".join(f"{n} {x:.3g}" for n, x in worst["inertia_rel_error"])
     worst_c = ", ".join(f"{n} {x:.3g}" for n, x in worst["com_distance_rel"])

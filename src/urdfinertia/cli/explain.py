@@ -1,4 +1,9 @@
-"""``urdf-inertia explain``: one link's per-element and per-part breakdown (paper sec. 5)."""
+"""``urdf-inertia explain``: one link's per-element and per-part breakdown (paper sec. 5).
+
+The total is what ``fix`` writes for the link (its decision is printed under the table);
+the elements are its geometry's homogeneous model. A wrong ``--link`` names the three
+nearest link names.
+"""
 
 from __future__ import annotations
 
@@ -32,6 +37,7 @@ def run(args: argparse.Namespace) -> int:
         from urdfinertia.render.explain_plot import plot_breakdown
 
         plot_breakdown(breakdown, args.plot)
+        print(f"urdf-inertia: wrote {args.plot}", file=sys.stderr)
     if args.json:
         sys.stdout.write(json.dumps(breakdown_dict(breakdown), indent=2) + "\n")
         return 0
@@ -39,6 +45,8 @@ def run(args: argparse.Namespace) -> int:
 
     console = output_console()
     console.print(breakdown_table(breakdown))
+    if breakdown.decision:
+        console.print(f"fix: {breakdown.decision}", markup=False, highlight=False)
     for warning in breakdown.warnings:
         console.print(f"warning: {warning}")
     return 0

@@ -6,6 +6,13 @@ which the parent keeps for refusal messages). The base is fixed to the world in 
 engine, as arm users load it and as MuJoCo's URDF import does; gravity is -9.81 m/s^2
 along z; controls are zero (PyBullet's default velocity motors are switched off).
 
+A runaway must come from the inertials, not from how an engine is driven: joints stop at
+their position limits in every engine (Pinocchio, which only integrates the dynamics, gets
+an inelastic stop here), and PyBullet runs without the URDF's joint damping, which it
+applies explicitly: damping 1 N m s/rad on a 1e-3 kg m^2 gripper at 1/240 s gives
+damping * dt / I = 3.5, past the explicit scheme's limit of 2, and the joint oscillates
+at its speed cap (talos's grippers) whatever its inertial.
+
 Only this module imports the engines; a crash here (engines can segfault on bad inertia)
 costs the child process, never the caller.
 """
@@ -113,6 +120,8 @@ def probe_pybullet(path: Path, seconds: float) -> dict:
             if info[2] != p.JOINT_FIXED:
                 movable.append(j)
                 names.append((info[1].decode(), link))
+        for j in movable:  # explicit damping is unstable on light links (module doc)
+            p.changeDynamics(body, j, jointDamping=0.0, physicsClientId=client)
         if movable:  # zero controls: PyBullet's default velocity motors hold the joints
             p.setJointMotorControlArray(body, movable, p.VELOCITY_CONTROL,
                                         forces=[0.0] * len(movable), physicsClientId=client)
@@ -148,6 +157,7 @@ def probe_pinocchio(path: Path, seconds: float) -> dict:
             names.append((model.names[j], _child_body(model, j)))
     q, v = pin.neutral(model), np.zeros(model.nv)
     tau = np.zeros(model.nv)
+    stops = _joint_stops(model)
     steps = max(1, round(seconds / PINOCCHIO_DT))
     with np.errstate(all="ignore"):
         for k in range(steps):
@@ -156,8 +166,41 @@ def probe_pinocchio(path: Path, seconds: float) -> dict:
             if _speeds(result, (k + 1) * PINOCCHIO_DT, names, v):
                 break
             q = pin.integrate(model, q, v * PINOCCHIO_DT)
+            _stop_at_limits(q, v, stops)
     result["seconds"] = steps * PINOCCHIO_DT
     return result
+
+
+def _joint_stops(model) -> list[tuple[int, int, float, float]]:
+    """(q index, v index, lower, upper) of every one-coordinate joint with position limits.
+
+    Pinocchio integrates the dynamics alone and enforces no limit; MuJoCo and PyBullet
+    stop a joint at its limits. Without the stop, a passive prismatic finger (panda's, 4 cm
+    of travel) falls forever and reaches any speed: a false runaway.
+    """
+    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    stops = []
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.nq != 1 or joint.nv != 1:
+            continue  # continuous, spherical and free joints have no position limits
+        lo, hi = float(lower[joint.idx_q]), float(upper[joint.idx_q])
+        if math.isfinite(lo) and math.isfinite(hi) and lo <= hi:
+            stops.append((joint.idx_q, joint.idx_v, lo, hi))
+    return stops
+
+
+def _stop_at_limits(q: np.ndarray, v: np.ndarray,
+                    stops: list[tuple[int, int, float, float]]) -> None:
+    """An inelastic stop: a joint past a limit is put back on it, its speed into the limit
+    dropped (in place)."""
+    for iq, iv, lo, hi in stops:
+        if q[iq] < lo:
+            q[iq] = lo
+            v[iv] = max(v[iv], 0.0)
+        elif q[iq] > hi:
+            q[iq] = hi
+            v[iv] = min(v[iv], 0.0)
 
 
 def _child_body(model, joint: int) -> str:

@@ -20,14 +20,14 @@ from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import Link, Problem
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.assemble import Assembly
+from urdfinertia.link.compute import compute_link
 from urdfinertia.link.errorbar import tensor_error_bar
-from urdfinertia.link.fix import compute_link
 from urdfinertia.link.mass import MassSource
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.parts import MeshSource
 from urdfinertia.link.policy import Decision
 from urdfinertia.link.repair_only import repair_link
-from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.link.results import FixResult, LinkResult, Status
 
 VALUES = ("mass", "com", "tensor")
 #: Below this radius of gyration (m) a written tensor holds no information to keep.
@@ -42,18 +42,32 @@ MASS_CHANGE_WARN = 0.01
 
 def apply_decision(link: Link, decision: Decision, options: FixOptions, meshes: MeshSource,
                    urdf_dir: Path, problems: tuple[Problem, ...] = ()) -> LinkResult:
-    """The link's result under ``decision``; ``problems``: what the reader read past in it."""
+    """The link's verdict under ``decision``; ``problems``: what the reader read past in it.
+
+    The verdict carries the decision's action, reason and findings, and what could not be
+    verified: the decision's unreadable geometry and every element dropped computing it.
+    """
+    r = _apply(link, decision, options, meshes, urdf_dir, problems)
+    dropped = tuple(f"{p.element}: {p.cause}" if p.element else p.cause
+                    for p in r.problems if p.kind == "dropped" and p.link == link.name)
+    unverified = tuple(dict.fromkeys(decision.unverified + dropped))
+    return replace(r, action=decision.action, why=decision.why, findings=decision.findings,
+                   unverified=unverified)
+
+
+def _apply(link: Link, decision: Decision, options: FixOptions, meshes: MeshSource,
+           urdf_dir: Path, problems: tuple[Problem, ...]) -> LinkResult:
     written = VALUES if link.inertial is not None else ()
     if decision.action == "keep":
-        return LinkResult(link.name, "kept", "as written", None, link.inertial,
+        return LinkResult(link.name, Status.KEPT, "as written", None, link.inertial,
                           problems=problems, decision=decision.describe(), kept=written)
     if decision.action == "leave":
-        return LinkResult(link.name, "untouched", "none", None, link.inertial,
+        return LinkResult(link.name, Status.UNTOUCHED, "none", None, link.inertial,
                           problems=problems, decision=decision.describe(), kept=written)
     if decision.action == "repair":
         return replace(_repair(link, decision, options), problems=problems)
     r = compute_link(link, options, meshes, urdf_dir, problems, trust_mass=decision.keep_mass)
-    if r.status == "left":
+    if r.status == Status.LEFT:
         return replace(r, decision=f"left as it was: {r.reason}", kept=written)
     if r.assembly is None:  # no geometry (--all or --links): as before the policy
         return replace(r, decision=r.warnings[0] if r.warnings else "", kept=written)
@@ -86,13 +100,16 @@ def _repair(link: Link, decision: Decision, options: FixOptions) -> LinkResult:
     (a "virtual" link between the joints of a hip) gets :data:`MIN_BODY_MASS`.
     """
     raw = RawInertial.from_inertial(link.inertial) if link.inertial is not None else None
-    if raw is None or (raw.mass == 0 and not raw.inertia.any()):
+    if raw is None or not raw.mass_ok or (raw.mass == 0 and not raw.inertia.any()):
+        # no usable mass (none, zero, negative or not finite) and nothing to compute from
         radius = MIN_BODY_RADIUS
-        body = MassProperties(MIN_BODY_MASS, np.zeros(3), _sphere(MIN_BODY_MASS, radius))
-        return LinkResult(link.name, "repaired", "none", Assembly(body, (), MassSource(
+        com = raw.com if raw is not None and raw.com_ok else np.zeros(3)
+        body = MassProperties(MIN_BODY_MASS, com, _sphere(MIN_BODY_MASS, radius))
+        kept_com = ("com",) if raw is not None and raw.com_ok else ()
+        return LinkResult(link.name, Status.REPAIRED, "none", Assembly(body, (), MassSource(
             "kept", MIN_BODY_MASS)), link.inertial, decision=decision.describe() + (
             f"; a moving body needs mass: given {MIN_BODY_MASS:g} kg, a {100 * radius:g} cm "
-            "sphere"), derived=VALUES)
+            "sphere"), kept=kept_com, derived=tuple(v for v in VALUES if v not in kept_com))
     r = repair_link(link)
     if r.status == "repaired" and r.assembly is not None:
         total = r.assembly.total
@@ -100,16 +117,15 @@ def _repair(link: Link, decision: Decision, options: FixOptions) -> LinkResult:
         if math.sqrt(moments[-1] / total.mass) >= MIN_GYRATION:
             return replace(r, decision=decision.describe(), kept=("mass", "com"),
                            derived=("tensor",))
-    if raw.mass_ok and raw.com_ok:
-        radius = (3 * raw.mass / (4 * math.pi * options.density)) ** (1 / 3)
-        body = MassProperties(raw.mass, raw.com, _sphere(raw.mass, radius))
-        return LinkResult(link.name, "repaired", "none", Assembly(body, (), MassSource(
-            "kept", raw.mass)), link.inertial, decision=decision.describe() + (
-            f"; the tensor holds nothing to keep: a solid sphere of the mass at "
-            f"{options.density:g} kg/m^3"), kept=("mass", "com"), derived=("tensor",))
-    why = "; ".join(w.replace(" (use fix)", "") for w in r.warnings) or "nothing to lift"
-    return replace(r, decision=f"{decision.why}: cannot be repaired ({why}), left as it is",
-                   warnings=(), kept=VALUES)
+    com = raw.com if raw.com_ok else np.zeros(3)
+    kept = ("mass", "com") if raw.com_ok else ("mass",)
+    radius = (3 * raw.mass / (4 * math.pi * options.density)) ** (1 / 3)
+    body = MassProperties(raw.mass, com, _sphere(raw.mass, radius))
+    return LinkResult(link.name, Status.REPAIRED, "none", Assembly(body, (), MassSource(
+        "kept", raw.mass)), link.inertial, decision=decision.describe() + (
+        f"; the tensor holds nothing to keep: a solid sphere of the mass at "
+        f"{options.density:g} kg/m^3"), kept=kept,
+        derived=tuple(v for v in VALUES if v not in kept))
 
 
 def _sphere(mass: float, radius: float) -> np.ndarray:

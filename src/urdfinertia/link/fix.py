@@ -2,15 +2,15 @@
 
 Which links, and which of their values are kept, is :mod:`urdfinertia.link.policy`'s rule.
 
-Data flow: read (:mod:`urdf_read`) -> parts (:mod:`parts`) -> assemble (:mod:`assemble`)
--> write (:mod:`urdf_write`). Nothing here touches the file system except through
-:func:`fix_file`'s reading; writing the result is the caller's job (:mod:`atomic`).
+This module orchestrates the robot: the plan (:mod:`.policy`), each link's decision carried
+out (:mod:`.apply`, which computes a link through :mod:`.compute`), the strict refusal and
+the patched document. Imports go one way, fix -> apply -> compute (an import-linter
+contract). Nothing here touches the file system except through :func:`fix_file`'s reading;
+writing the result is the caller's job (:mod:`atomic`).
 
-Fault isolation: an element whose parts cannot be made (a missing or unreadable mesh, a
-mesh enclosing no volume) is dropped with a :class:`Problem`, and the link is computed from
-the rest; a link with nothing usable left, or whose parts cannot be combined, is left
-exactly as it was (status "left", with the reason). Whether that is acceptable (exit 1) or
-all-or-nothing (``--strict``) is the command line's decision.
+Fault isolation (:mod:`.compute`): a link with nothing usable left is left exactly as it
+was, with the reason. Whether that is acceptable (exit 1) or all-or-nothing (``--strict``)
+is the caller's decision.
 """
 
 from __future__ import annotations
@@ -19,163 +19,26 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
+from urdfinertia.link.compute import compute_link, problem_code  # noqa: F401  (re-exported)
+from urdfinertia.link.options import FixOptions
 from urdfinertia.link.results import FixResult, LinkResult
 
 if TYPE_CHECKING:
-    from collections.abc import Sequence
-
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.descriptions.model import GeometryRef, Link, Problem, Robot
-    from urdfinertia.link.assemble import Assembly
-    from urdfinertia.link.parts import MeshSource, Part
-
-# The computing modules (numpy, lxml, the mesh readers) are imported by the functions that
-# use them: a warm batch run needs only FixOptions and reuses every result.
+    from urdfinertia.descriptions.model import Problem, Robot
 
 
-def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: Path,
-                 problems: Sequence[Problem] = (), *, trust_mass: bool = True) -> LinkResult:
-    """Recompute one link, or report why it stays untouched or is left as it was.
+def link_verdicts(robot: Robot, options: FixOptions,
+                  meshes: MeshLibrary | None = None) -> tuple[LinkResult, ...]:
+    """Every link's verdict: the one answer ``fix``, ``check``, ``compare``, ``explain``,
+    ``report`` and the Python API render.
 
-    ``trust_mass=False``: the written mass is not kept even with ``options.mass == "keep"``
-    (the policy found it implausible, :mod:`urdfinertia.link.policy`).
-
-    ``problems``: what the reader already read past in this link (dropped elements,
-    ignored values); they are reported with the link's result.
+    The plan (:func:`urdfinertia.link.policy.plan_robot`: findings and decision) carried
+    out link by link (:func:`urdfinertia.link.apply.apply_decision`); nothing is written.
     """
-    from urdfinertia.link.assemble import assemble
-    from urdfinertia.link.mass import link_mass_source
-
-    if options.keep_auto and link.auto_inertial:
-        return LinkResult(link.name, "untouched", "none", None, link.inertial,
-                          ("auto inertia kept (--keep-auto): the simulator computes it",
-                           *link.notes))
-    spec = options.spec
-    link_spec = spec.link(link.name) if spec is not None else None
-    found = list(problems)
-    if link_spec is not None:
-        parts, _ = link_spec.parts(link, meshes, urdf_dir)
-        role = "spec"
-        source = link_spec.mass_source(link, options, trust_mass=trust_mass)
-    else:
-        role, refs = select_geometry(link, options.geometry)
-        parts = _usable_parts(link, refs, meshes, urdf_dir, found)
-        if refs and not parts and options.geometry == "auto" and role == "collision" \
-                and link.visuals:
-            # every collision element was dropped: the visuals describe the same body
-            role = "visual"
-            parts = _usable_parts(link, link.visuals, meshes, urdf_dir, found)
-        if not parts:
-            return _not_computed(link, found)
-        source = link_mass_source(link, options, trust_mass=trust_mass)
-    try:
-        try:
-            result = assemble(parts, source)
-        except ValueError as exc:  # e.g. an overflow from an absurd density or mass
-            raise UrdfInertiaError(f"mass properties cannot be computed: {exc}") from None
-    except UrdfInertiaError as exc:
-        if link_spec is not None:  # the spec, not the URDF, made these parts
-            raise exc.with_context(file=link_spec.path, link=link.name) from None
-        return LinkResult(link.name, "left", role, None, link.inertial, link.notes,
-                          tuple(found), exc.cause)
-    warnings = link.notes + _warnings(parts, result)
-    return LinkResult(link.name, "recomputed", role, result, link.inertial, warnings,
-                      tuple(found))
-
-
-def _usable_parts(link: Link, refs: Sequence[GeometryRef], meshes: MeshSource,
-                  urdf_dir: Path, found: list[Problem]) -> list[Part]:
-    """The parts of every element of ``refs`` that makes them; each that does not is
-    dropped with a problem appended to ``found``."""
-    from urdfinertia.descriptions.model import Problem
-    from urdfinertia.link.parts import geometry_parts
-
-    parts: list[Part] = []
-    for ref in refs:
-        try:
-            parts.extend(geometry_parts(ref, meshes, urdf_dir))
-        except UrdfInertiaError as exc:
-            found.append(Problem(problem_code(exc), exc.cause, line=exc.line or ref.line,
-                                 link=link.name, element=ref.label, kind="dropped"))
-    return parts
-
-
-def _not_computed(link: Link, found: list[Problem]) -> LinkResult:
-    """A link without parts: untouched when it had nothing to compute from, else left."""
-    if not found:
-        return LinkResult(link.name, "untouched", "none", None, link.inertial,
-                          ("no geometry: inertial left as it was", *link.notes))
-    dropped = [p for p in found if p.kind == "dropped"]
-    ignored = [p for p in found if p.kind == "ignored"]
-    if dropped:
-        first = dropped[0]
-        more = f" and {len(dropped) - 1} more" if len(dropped) > 1 else ""
-        reason = (f"no usable geometry left ({first.element} line {first.line}: "
-                  f"{first.cause}{more})")
-    elif ignored:
-        reason = f"{ignored[0].cause}, and no geometry to compute it from"
-    else:  # only lenient notes: nothing wrong with the link itself
-        return LinkResult(link.name, "untouched", "none", None, link.inertial,
-                          ("no geometry: inertial left as it was", *link.notes), tuple(found))
-    return LinkResult(link.name, "left", "none", None, link.inertial, (), tuple(found),
-                      reason)
-
-
-#: Problem codes of element errors raised while making parts, by a phrase of the message.
-_CODES = (
-    ("not found", "mesh-missing"),
-    ("cannot resolve package", "mesh-unresolved"),
-    ("encloses no volume", "no-volume"),
-    ("no valid solid", "no-volume"),
-    ("unsupported mesh format", "mesh-format"),
-    ("only files are read", "mesh-url"),
-    ("only local files", "mesh-url"),
-    ("not allowed", "mesh-refused"),
-    ("limit", "mesh-too-large"),
-)
-
-
-def problem_code(exc: UrdfInertiaError) -> str:
-    """Short category of an element error, for reports ("mesh-missing", ...)."""
-    for phrase, code in _CODES:
-        if phrase in exc.cause:
-            return code
-    return "mesh-unreadable"
-
-
-def _warnings(parts: list[Part], result: Assembly) -> tuple[str, ...]:
-    import numpy as np
-
-    out: list[str] = []
-    for p in parts:
-        for note in p.notes:
-            out.append(f"{p.name}: {note}")
-    volume = sum(-p.volume if p.cavity else p.volume for p in parts)
-    if volume > 0:
-        rho = result.total.mass / volume
-        lo, hi = PLAUSIBLE_DENSITY
-        if not lo <= rho <= hi:
-            out.append(f"implied density {rho:.3g} kg/m^3 is outside {lo:g}..{hi:g} "
-                       "(unit slip or placeholder mass?)")
-    # distance of each part's CoM from the link origin plus its radius of gyration: a thin
-    # hollow part in millimetres has a small volume but a large gyration radius
-    extent = max(
-        float(np.linalg.norm(p.pose[:3, :3] @ p.unit.com + p.pose[:3, 3]))
-        + float(np.sqrt(max(np.trace(p.unit.inertia), 0.0) / (2.0 * abs(p.unit.mass))))
-        if p.unit.mass else float(np.linalg.norm(p.pose[:3, 3]))
-        for p in parts
-    )
-    if extent > 10.0:
-        out.append(f"geometry spans {extent:.3g} m: millimetre mesh without scale?")
-    return tuple(dict.fromkeys(out))
-
-
-def fix_robot(robot: Robot, data: bytes, options: FixOptions,
-              meshes: MeshLibrary | None = None) -> FixResult:
-    """Recompute all links of ``robot`` and return the patched document."""
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.descriptions.formats import format_of
+    from urdfinertia.link.apply import apply_decision
+    from urdfinertia.link.policy import plan_robot
 
     path = robot.path or Path("robot.urdf")
     if meshes is None:
@@ -183,10 +46,6 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
-    # which links are recomputed, and what of them is kept: link/policy.py
-    from urdfinertia.link.apply import apply_decision
-    from urdfinertia.link.policy import plan_robot
-
     by_link: dict[str, list[Problem]] = {}
     for problem in robot.problems:
         if problem.link is not None:
@@ -199,8 +58,42 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
                                           tuple(by_link.get(link.name, ()))))
         except UrdfInertiaError as exc:
             raise exc.with_context(file=path, link=link.name) from None
+    return tuple(results)
+
+
+def link_verdict(robot: Robot, name: str, options: FixOptions,
+                 meshes: MeshLibrary | None = None) -> LinkResult:
+    """One link's verdict, as :func:`link_verdicts` gives it, computing that link only."""
+    from urdfinertia.cache.library import MeshLibrary
+    from urdfinertia.descriptions.kinematics import Kinematics
+    from urdfinertia.link.apply import apply_decision
+    from urdfinertia.link.bounds import BoundsCache
+    from urdfinertia.link.policy import decide_link
+
+    path = robot.path or Path("robot.urdf")
+    if meshes is None:
+        meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    if options.spec is not None:
+        options.spec.check_links(robot)
+    link = robot.link(name)
+    problems = tuple(p for p in robot.problems if p.link == name)
+    try:
+        decision = decide_link(link, robot, Kinematics(robot), options, meshes,
+                               BoundsCache(meshes), path.parent)
+        return apply_decision(link, decision, options, meshes, path.parent, problems)
+    except UrdfInertiaError as exc:
+        raise exc.with_context(file=path, link=name) from None
+
+
+def fix_robot(robot: Robot, data: bytes, options: FixOptions,
+              meshes: MeshLibrary | None = None) -> FixResult:
+    """Every link's verdict (:func:`link_verdicts`) and the patched document."""
+    from urdfinertia.descriptions.formats import format_of
+
+    path = robot.path or Path("robot.urdf")
+    results = link_verdicts(robot, options, meshes)
     if options.strict:
-        refusal = FixResult(path, robot, tuple(results), data, data).strict_refusal()
+        refusal = FixResult(path, robot, results, data, data).strict_refusal()
         if refusal is not None:
             raise refusal
     new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}
@@ -208,13 +101,18 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
         output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path) from None
-    return FixResult(path, robot, tuple(results), data, output)
+    return FixResult(path, robot, results, data, output)
 
 
-def fix_file(path: str | Path, options: FixOptions,
+def fix_file(path: str | Path, options: FixOptions | None = None,
              meshes: MeshLibrary | None = None) -> FixResult:
+    """Read the description at ``path`` (any format) and fix it (:func:`fix_robot`).
+
+    ``options`` default to ``FixOptions()``, the command line's defaults. Nothing is
+    written: the patched document is ``result.output``.
+    """
     from urdfinertia.descriptions.formats import read_description
 
     robot, data = read_description(path)
-    return fix_robot(robot, data, options, meshes)
+    return fix_robot(robot, data, options or FixOptions(), meshes)
 

@@ -39,6 +39,11 @@ Bounds = tuple[np.ndarray, np.ndarray]
 COM_OUTSIDE_WARN = 0.25
 #: ... than this many box diagonals: error (a unit slip, not a modelling choice).
 COM_OUTSIDE_ERROR = 10.0
+#: A written body whose CoM lies farther outside the geometry's box than this many box
+#: diagonals, with a tensor beyond all its mass on the box's far corners, does not lie in
+#: that geometry: the geometry is a marker (Cassie's 1 cm "reference" boxes: 1.1 to 1.3
+#: diagonals; UR5's wrists, whose written tensors are wrong, 0.3 to 0.4).
+MARKER_OUTSIDE = 1.0
 #: Written trace / trace of the geometry at the written mass beyond this factor either way.
 INERTIA_RATIO_LIMIT = 100.0
 
@@ -145,6 +150,9 @@ class GeometryJudgement:
     findings: list[Finding]
     bounds: Bounds | None = None
     density: float | None = None
+    #: the written body cannot lie in the geometry: its CoM is outside the box and its
+    #: tensor exceeds all its mass on the box's far corners (the geometry is a marker)
+    outgrows: bool = False
 
 
 def geometry_findings(link: Link, meshes: MeshLibrary, cache: BoundsCache,
@@ -184,13 +192,33 @@ def geometry_judgement(link: Link, meshes: MeshLibrary, cache: BoundsCache,
     d = raw.diagnosis()
     if d.finite and not d.zero and bounds is not None:
         out.extend(_scale_findings(name, raw, parts, bounds, options))
-    return GeometryJudgement(out, bounds, rho)
+    outgrows = (bounds is not None and raw.com_ok
+                and _outside(raw.com, *bounds) > MARKER_OUTSIDE * _diagonal(*bounds)
+                and float(np.trace(raw.inertia)) > _ceiling(raw, *bounds))
+    return GeometryJudgement(out, bounds, rho, outgrows)
+
+
+def _outside(com: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """How far ``com`` lies outside the box ``lo..hi`` (0 inside), m."""
+    return float(np.linalg.norm(np.maximum(np.maximum(lo - com, com - hi), 0.0)))
+
+
+def _diagonal(lo: np.ndarray, hi: np.ndarray) -> float:
+    return float(np.linalg.norm(hi - lo))
+
+
+def _ceiling(raw: RawInertial, lo: np.ndarray, hi: np.ndarray) -> float:
+    """The largest trace of a tensor about the CoM of the mass in the box ``lo..hi``:
+    trace(I_com) = 2 integral |r - c|^2 dm <= 2 m max |corner - c|^2."""
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                        for z in (lo[2], hi[2])])
+    return 2 * raw.mass * float(np.max(np.sum((corners - raw.com) ** 2, axis=1)))
 
 
 def _com_findings(name: str, raw: RawInertial, lo: np.ndarray, hi: np.ndarray,
                   ) -> list[Finding]:
-    outside = float(np.linalg.norm(np.maximum(np.maximum(lo - raw.com, raw.com - hi), 0.0)))
-    diag = float(np.linalg.norm(hi - lo))
+    outside = _outside(raw.com, lo, hi)
+    diag = _diagonal(lo, hi)
     if diag <= 0 or outside <= COM_OUTSIDE_WARN * diag:
         return []
     rel = outside / diag
@@ -232,11 +260,7 @@ def _scale_findings(name: str, raw: RawInertial, parts: list, bounds: tuple,
         return []
     written = float(np.trace(raw.inertia))
     computed = float(np.trace(geo.inertia))
-    lo, hi = bounds
-    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                        for z in (lo[2], hi[2])])
-    # trace(I_com) = 2 integral |r - c|^2 dm <= 2 m max |corner - c|^2 for mass in the box.
-    ceiling = 2 * raw.mass * float(np.max(np.sum((corners - raw.com) ** 2, axis=1)))
+    ceiling = _ceiling(raw, *bounds)
     if computed <= 0:
         return []
     ratio = written / computed
@@ -250,3 +274,18 @@ def _scale_findings(name: str, raw: RawInertial, parts: list, bounds: tuple,
                     f"{computed:.4g} at {raw.mass:.4g} kg ({side} than plausible{beyond})")]
 
 
+def reference_findings(link: Link, options: FixOptions, urdf_dir: Path) -> list[Finding]:
+    """Mesh references that do not resolve to a file (loaders fail on them)."""
+    from urdfinertia.descriptions.model import Mesh
+    from urdfinertia.descriptions.paths import resolve_mesh_path
+
+    out = []
+    for ref in (*link.collisions, *link.visuals):
+        if not isinstance(ref.shape, Mesh):
+            continue
+        try:
+            resolve_mesh_path(ref.shape.filename, urdf_dir, options.package_dirs)
+        except UrdfInertiaError as exc:
+            out.append(Finding(link.name, "warning", "mesh-unresolved",
+                               f"line {ref.line}: {ref.label}: {exc.cause}", ref.line))
+    return out

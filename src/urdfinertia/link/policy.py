@@ -13,9 +13,13 @@ Massless links stay massless: a link without ``<inertial>`` or with mass 0 that 
 move (on a fixed joint, or the root) is a frame whose mass is lumped elsewhere. A link
 whose inertial is invalid but which has no geometry gets ``--repair-only``'s minimal lift.
 
-``recompute="all"`` is the behaviour before this policy (every link with geometry);
-``recompute="links"`` recomputes the links named. Links named in a spec are always
-recomputed. ``check``, ``compare`` and ``report`` print the same :class:`Decision`.
+Nothing is derived from geometry that is not the body (:func:`decide_from_findings`): a
+link whose geometry could not be read, or whose implied density no material has, keeps a
+valid inertial as written and gets the minimal repair of an invalid one.
+
+``recompute="all"`` recomputes every link with geometry; ``recompute="links"`` the links
+named. Links named in a spec are always recomputed. Every command renders the same
+decision (:class:`~urdfinertia.link.results.LinkResult`).
 """
 
 from __future__ import annotations
@@ -30,14 +34,16 @@ from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.kinematics import Kinematics
 from urdfinertia.descriptions.model import Link, Robot
 from urdfinertia.link.bounds import BoundsCache
-from urdfinertia.link.options import FixOptions, select_geometry
+from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
 from urdfinertia.link.plausibility import (
     Bounds,
     Finding,
     geometry_judgement,
+    reference_findings,
     unit_slip,
     value_findings,
 )
+from urdfinertia.link.results import Action
 
 #: Findings that make ``fix`` recompute a link by default.
 RECOMPUTE_CODES = (
@@ -61,35 +67,46 @@ COM_DISTRUST = frozenset({"com-not-finite", "com-outside-geometry"})
 INVALID_CODES = frozenset({"mass-not-finite", "mass-not-positive", "com-not-finite",
                            "inertia-not-finite", "inertia-zero", "inertia-not-symmetric",
                            "inertia-not-positive-definite", "triangle-inequality"})
+#: Findings that hold the inertial against the geometry: meaningless when the geometry is
+#: not the body.
+GEOMETRY_CODES = frozenset({"implausible-density", "com-outside-geometry",
+                            "inertia-vs-geometry"})
+#: Findings that say the geometry could not be read (the link was not verified).
+UNREAD_CODES = frozenset({"geometry-unreadable", "mesh-unresolved"})
 #: A kept CoM lies in the geometry's box grown by this fraction of its diagonal on every
 #: side: collision geometry is often a simplified, slightly smaller hull of the CAD part.
 COM_KEEP_MARGIN = 0.02
 
-ACTIONS = ("recompute", "keep", "repair", "leave")
+ACTIONS = tuple(a.value for a in Action)
 
 
 @dataclass(frozen=True)
 class Decision:
     """What ``fix`` does with one link, and why.
 
-    action : "recompute" (from geometry or spec), "keep" (byte for byte, plausible),
-        "repair" (minimal lift of an invalid tensor: nothing to recompute from) or "leave"
-        (as it is, e.g. a massless frame).
-    why : the reason, e.g. "inertia-zero, com-outside-geometry" or "plausible".
+    action : :class:`Action`: recompute (from geometry or spec), keep (byte for byte,
+        plausible), repair (minimal lift of an invalid tensor: nothing trustworthy to
+        recompute from) or leave (as it is, e.g. a massless frame).
+    why : the reason in plain words, e.g. "inertia-zero, com-outside-geometry".
     keep_mass, keep_com : for "recompute", whether the written mass and CoM are trusted.
     bounds : the geometry's box in the link frame, when it was read.
+    findings : what ``check`` reports about the link as written (the decision's grounds).
+    unverified : what of the link's geometry could not be read.
     """
 
     link: str
-    action: str
+    action: Action
     why: str
     keep_mass: bool = False
     keep_com: bool = False
     bounds: Bounds | None = None
+    findings: tuple[Finding, ...] = ()
+    unverified: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.action not in ACTIONS:
             raise ValueError(f"action must be one of {ACTIONS}")
+        object.__setattr__(self, "action", Action(self.action))
 
     def describe(self, done: bool = True) -> str:
         """"kept: plausible" after a fix, "would be kept: plausible" before one."""
@@ -122,46 +139,67 @@ def _named_in_spec(options: FixOptions, name: str) -> bool:
 
 def decide_link(link: Link, robot: Robot, kin: Kinematics, options: FixOptions,
                 meshes: MeshLibrary, cache: BoundsCache, urdf_dir: Path) -> Decision:
-    name = link.name
-    if _named_in_spec(options, name):
-        findings = value_findings(link, kin, robot)
-        trust = not ({f.code for f in findings} & MASS_DISTRUST)
-        return Decision(name, "recompute", "named in the spec", keep_mass=trust)
-    if options.recompute == "all":
-        return Decision(name, "recompute", "--all", keep_mass=True)
-    if options.recompute == "links":
-        if name in options.links:
-            return Decision(name, "recompute", "named by --links", keep_mass=True)
-        return Decision(name, "keep", "not named by --links")
-    massless = link.inertial is None or link.inertial.mass == 0
-    if massless and not kin.moves(name):
-        if name in kin.parent_joint:
-            return Decision(name, "leave", "massless, on a fixed joint: left as it is")
-        what = "without <inertial>" if link.inertial is None else "with mass 0"
-        return Decision(name, "leave", f"root link {what}: left as it is (a floating base "
-                        "needs --links NAME or --all)")
-    findings = value_findings(link, kin, robot)
-    codes = {f.code for f in findings if f.link == name}
-    if codes == {"inertia-zero"} and not kin.moves(name) and name in kin.parent_joint \
-            and not (link.collisions or link.visuals):
-        # a frame with a token mass (so101's gripper_frame_link: 1e-9 kg, zero tensor):
-        # simulators merge it into its parent; a made-up tensor of that size is one MuJoCo
-        # refuses (eigenvalues below its 1e-15 floor), where it took the zero tensor
-        return Decision(name, "leave", "frame on a fixed joint with a zero tensor and "
-                        "nothing to compute from: left as it is")
+    """The link's findings (as ``check`` reports them) and the decision taken from them."""
+    findings = value_findings(link, kin, robot) + reference_findings(link, options, urdf_dir)
     bounds = density = None
+    outgrows = False
     if link.inertial is not None and (link.collisions or link.visuals):
         judged = geometry_judgement(link, meshes, cache, options, urdf_dir)
         findings += judged.findings
-        bounds, density = judged.bounds, judged.density
-    return decide_from_findings(link, findings, bounds, density, options)
+        bounds, density, outgrows = judged.bounds, judged.density, judged.outgrows
+    # each unresolved mesh once: "geometry-unreadable" repeats an unresolved one's cause
+    mine = [f for f in findings if f.link == link.name]
+    unverified = tuple(f.message for f in mine if f.code == "mesh-unresolved") or tuple(
+        f.message for f in mine if f.code == "geometry-unreadable")
+    decision = _decide(link, kin, findings, bounds, density, options, outgrows)
+    return replace(decision, findings=tuple(findings), unverified=unverified)
+
+
+def _decide(link: Link, kin: Kinematics, findings: list[Finding], bounds: Bounds | None,
+            density: float | None, options: FixOptions, outgrows: bool) -> Decision:
+    name = link.name
+    if _named_in_spec(options, name):
+        trust = not ({f.code for f in findings} & MASS_DISTRUST)
+        return Decision(name, Action.RECOMPUTE, "named in the spec", keep_mass=trust)
+    if options.recompute == "all":
+        return Decision(name, Action.RECOMPUTE, "every link asked for", keep_mass=True)
+    if options.recompute == "links":
+        if name in options.links:
+            return Decision(name, Action.RECOMPUTE, "named", keep_mass=True)
+        return Decision(name, Action.KEEP, "not named")
+    massless = link.inertial is None or link.inertial.mass == 0
+    if massless and not kin.moves(name):
+        if name in kin.parent_joint:
+            return Decision(name, Action.LEAVE, "massless, on a fixed joint: left as it is")
+        what = "without <inertial>" if link.inertial is None else "with mass 0"
+        return Decision(name, Action.LEAVE, f"root link {what}: left as it is (a floating "
+                        "base is recomputed only when named)")
+    codes = {f.code for f in findings if f.link == name}
+    if codes - UNREAD_CODES == {"inertia-zero"} and not kin.moves(name) \
+            and name in kin.parent_joint and not (link.collisions or link.visuals):
+        # a frame with a token mass (so101's gripper_frame_link: 1e-9 kg, zero tensor):
+        # simulators merge it into its parent; a made-up tensor of that size is one MuJoCo
+        # refuses (eigenvalues below its 1e-15 floor), where it took the zero tensor
+        return Decision(name, Action.LEAVE, "frame on a fixed joint with a zero tensor and "
+                        "nothing to compute from: left as it is")
+    return decide_from_findings(link, findings, bounds, density, options, outgrows)
 
 
 def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | None,
-                         density: float | None, options: FixOptions) -> Decision:
+                         density: float | None, options: FixOptions,
+                         outgrows: bool = False) -> Decision:
     """The default policy for a link that is not a massless frame, from its findings.
 
-    ``density`` is the written mass over the geometry's volume (kg/m^3), when known.
+    ``density`` is the written mass over the geometry's volume (kg/m^3), when known;
+    ``outgrows``: the written body cannot lie in the geometry (CoM outside its box, tensor
+    beyond all the mass on the box's far corners).
+
+    A derived value must be more trustworthy than the one it replaces, so nothing is
+    derived from geometry that is not the body: geometry that could not be read, or whose
+    implied density no material has (a 1 cm marker box holding a motor's mass, a large
+    envelope around a light link), or in which the written body cannot lie. There a valid
+    inertial is kept as written and an invalid one gets the minimal repair, each with the
+    reason.
     """
     name = link.name
     codes = {f.code for f in findings if f.link == name}
@@ -170,21 +208,46 @@ def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | N
     if slip is not None and slip[1] == "geometry":
         codes -= GEOMETRY_SLIP_CODES
         note = f" (implausible density explained by the geometry: {slip[2]})"
+    not_body = None
+    if "implausible-density" in codes and density is not None:
+        not_body = not_the_body(density)
+    elif outgrows and codes & MASS_DISTRUST == set():
+        not_body = ("geometry is a marker, not the body (the written CoM lies more than a "
+                    "box diagonal outside it, the tensor beyond all the mass on its corners)")
+    if not_body is not None:
+        codes -= GEOMETRY_CODES
+    unread = link.inertial is not None and bool(codes & UNREAD_CODES)
     triggers = [c for c in RECOMPUTE_CODES if c in codes]
     if not triggers:
-        unread = "geometry-unreadable" in codes
-        return Decision(name, "keep", "plausible" + note + (
-            " (geometry unreadable: checked as written only)" if unread else ""))
+        if not_body is not None:
+            return Decision(name, Action.KEEP, not_body)
+        if unread:
+            return Decision(name, Action.KEEP, "valid as written; not verified against its "
+                            "geometry (unreadable)")
+        return Decision(name, Action.KEEP, "plausible" + note)
     why = ", ".join(triggers) + note
     _, refs = select_geometry(link, options.geometry)
-    if not refs:
-        if codes & (INVALID_CODES | {"missing-inertial"}):
-            return Decision(name, "repair", f"{why}; no geometry to recompute from")
-        return Decision(name, "leave", f"{why}; no geometry to recompute from: left as it is")
+    invalid = bool(codes & (INVALID_CODES | {"missing-inertial"}))
+    if not_body is not None or unread or not refs:
+        cause = (not_body if not_body is not None else
+                 "geometry could not be read" if refs else "no geometry to recompute from")
+        if invalid:
+            return Decision(name, Action.REPAIR, f"{why}; {cause}")
+        return Decision(name, Action.LEAVE, f"{why}; {cause}: left as it is")
     keep_mass = not (codes & MASS_DISTRUST)
     keep_com = keep_mass and not (codes & COM_DISTRUST) and _inside(link, bounds)
-    return Decision(name, "recompute", why, keep_mass=keep_mass, keep_com=keep_com,
+    return Decision(name, Action.RECOMPUTE, why, keep_mass=keep_mass, keep_com=keep_com,
                     bounds=bounds)
+
+
+def not_the_body(density: float) -> str:
+    """Why geometry with this implied density (kg/m^3) cannot be the link's body."""
+    lo, hi = PLAUSIBLE_DENSITY
+    if density > hi:
+        return (f"geometry is a marker, not the body (implied density {density:.3g} kg/m^3, "
+                f"denser than any material)")
+    return (f"geometry is an envelope, not the body (implied density {density:.3g} kg/m^3, "
+            f"lighter than any solid part, below {lo:g})")
 
 
 def _inside(link: Link, bounds: Bounds | None) -> bool:

@@ -20,17 +20,17 @@ from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.tensor_repair import repair_tensor
 from urdfinertia.link.assemble import Assembly
 from urdfinertia.link.mass import MassSource
-from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.link.results import FixResult, LinkResult, Status
 
 
 def repair_link(link: Link) -> LinkResult:
     """The repaired link (status "repaired") or why it stays as written ("untouched")."""
     if link.inertial is None:
-        return LinkResult(link.name, "untouched", "none", None, None, ())
+        return LinkResult(link.name, Status.UNTOUCHED, "none", None, None, ())
     raw = RawInertial.from_inertial(link.inertial)
 
     def untouched(why: str = "") -> LinkResult:
-        return LinkResult(link.name, "untouched", "as written", None, link.inertial,
+        return LinkResult(link.name, Status.UNTOUCHED, "as written", None, link.inertial,
                           (why,) if why else ())
 
     if raw.diagnosis().valid and raw.mass_ok:
@@ -38,18 +38,18 @@ def repair_link(link: Link) -> LinkResult:
     if not raw.mass_ok:
         if raw.mass == 0 and not raw.inertia.any():
             return untouched()  # a massless frame
-        return untouched(f"mass {raw.mass} is not usable: not repaired (use fix)")
+        return untouched(f"mass {raw.mass} is not usable: not repaired (the geometry can give it)")
     if not raw.com_ok:
-        return untouched("CoM is not finite: not repaired (use fix)")
+        return untouched("CoM is not finite: not repaired (the geometry can give it)")
     try:
         repair = repair_tensor(raw.inertia)
     except ValueError as exc:
-        return untouched(f"{exc}: not repaired (use fix)")
+        return untouched(f"{exc}: not repaired (the geometry can give it)")
     if not repair.changed:
         return untouched()
     total = MassProperties(raw.mass, raw.com, repair.tensor)
     assembly = Assembly(total, (), MassSource("kept", raw.mass))
-    return LinkResult(link.name, "repaired", "as written", assembly, link.inertial,
+    return LinkResult(link.name, Status.REPAIRED, "as written", assembly, link.inertial,
                       repair.changes)
 
 

@@ -1,16 +1,55 @@
-"""What a fix produced: one :class:`LinkResult` per link and the patched document."""
+"""One answer per link: the :class:`LinkResult` verdict, and the :class:`FixResult` of a file.
+
+A :class:`LinkResult` is computed once, by :func:`urdfinertia.link.fix.link_verdicts`, and
+rendered by every command (``fix``, ``check``, ``compare``, ``explain``, ``report``), by
+their JSON, SARIF and annotations, and by the Python API. It carries the link's findings
+(with rule ids), the decision (:class:`Action`) and its reason in plain words, what was
+kept and what derived, the values before and after, the error bar of a derived tensor,
+and what could not be verified.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from urdfinertia.descriptions.model import Inertial, Problem, Robot
     from urdfinertia.errors import UrdfError
+    from urdfinertia.inertia.massprops import MassProperties
     from urdfinertia.link.assemble import Assembly
     from urdfinertia.link.errorbar import ErrorBar
+    from urdfinertia.link.findings import Finding
+
+
+class Status(StrEnum):
+    """What happened to a link's inertial (string values: JSON stays readable)."""
+
+    #: derived from the geometry (or a spec), the trusted values kept
+    RECOMPUTED = "recomputed"
+    #: the minimal repair: mass and CoM kept, the tensor lifted (or a smallest body given)
+    REPAIRED = "repaired"
+    #: plausible: kept byte for byte
+    KEPT = "kept"
+    #: nothing to do or nothing to compute from: left byte for byte
+    UNTOUCHED = "untouched"
+    #: it should have been computed but could not be: left as written (``reason`` says why)
+    LEFT = "left"
+
+
+class Action(StrEnum):
+    """What the policy decided for a link (:mod:`urdfinertia.link.policy`)."""
+
+    RECOMPUTE = "recompute"
+    KEEP = "keep"
+    REPAIR = "repair"
+    LEAVE = "leave"
+
+
+#: Statuses whose inertial the output carries changed.
+CHANGED = frozenset({Status.RECOMPUTED, Status.REPAIRED})
 
 
 #: Problem kinds that ``--strict`` refuses ("lenient" readings are warnings even then).
@@ -19,17 +58,22 @@ STRICT_KINDS = ("dropped", "ignored")
 
 @dataclass(frozen=True, eq=False)
 class LinkResult:
-    """What happened to one link.
+    """One link's verdict: what ``fix`` does with it and why, rendered by every command.
 
-    status : "recomputed"; "untouched" (nothing to compute from: no geometry, nothing
-        wrong); "left" (it should have been computed but no usable geometry was left, or
-        its parts could not be combined: its inertial is left exactly as written and
-        ``reason`` says why).
+    status : :class:`Status` (what the output carries); ``reason`` says why a link was
+        left as it was.
+    action, why, decision : the policy's :class:`Action`, its reason in plain words, and
+        both in one phrase ("kept: plausible", "recomputed: inertia-zero").
+    kept, derived : which of "mass", "com", "tensor" were kept as written and which derived.
+    previous, before, after : the ``<inertial>`` as written, its values, and what the
+        output carries (:class:`~urdfinertia.inertia.massprops.MassProperties`).
+    findings : what ``check`` reports about the link as written.
+    unverified : what could not be read (unresolved or unreadable meshes).
     problems : the link's elements dropped and values ignored (read and compute time).
     """
 
     name: str
-    status: str  # "recomputed" | "repaired" | "kept" | "untouched" | "left" (with a reason)
+    status: Status
     geometry: str  # "collision" | "visual" | "spec" | "none" | "as written"
     assembly: Assembly | None
     previous: Inertial | None
@@ -43,6 +87,53 @@ class LinkResult:
     derived: tuple[str, ...] = ()
     #: expected error of a tensor derived from homogeneous geometry (None otherwise)
     error_bar: ErrorBar | None = None
+    #: the policy's action (None: computed outside the policy, e.g. ``explain``)
+    action: Action | None = None
+    #: why, in plain words ("plausible", "inertia-zero, com-outside-geometry", ...)
+    why: str = ""
+    #: what ``check`` reports about the link as written, rule ids with them
+    findings: tuple[Finding, ...] = ()
+    #: what could not be verified, e.g. "mesh meshes/arm.stl: cannot resolve package 'x'"
+    unverified: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "status", Status(self.status))
+        if self.action is not None:
+            object.__setattr__(self, "action", Action(self.action))
+
+    @property
+    def changed(self) -> bool:
+        """The output carries a new inertial for this link."""
+        return self.status in CHANGED and self.assembly is not None
+
+    @property
+    def before(self) -> MassProperties | None:
+        """The inertial as written (link frame, about its CoM); None if absent or invalid."""
+        if self.previous is None:
+            return None
+        from urdfinertia.descriptions.inertial import RawInertial
+
+        return RawInertial.from_inertial(self.previous).mass_properties()
+
+    @property
+    def after(self) -> MassProperties | None:
+        """What the output carries: the new values, else the written ones (None: none)."""
+        if self.changed:
+            assert self.assembly is not None
+            return self.assembly.total
+        return self.before
+
+    @property
+    def planned(self) -> str:
+        """The decision as a plan, as ``check`` says it: "would be kept: plausible"."""
+        if self.decision.startswith(("recomputed", "kept", "repaired", "left")):
+            return "would be " + self.decision
+        return self.decision
+
+    @property
+    def verified(self) -> bool:
+        """Everything asked for could be read (no geometry unresolved or unreadable)."""
+        return not self.unverified
 
     @property
     def size(self) -> float:
@@ -57,6 +148,12 @@ class LinkResult:
 
 @dataclass(frozen=True, eq=False)
 class FixResult:
+    """A file's verdicts and its patched document (``output``; the input is ``original``).
+
+    Saving the output where it belongs (relocated references, atomic write) is
+    :mod:`urdfinertia.link.save`'s job.
+    """
+
     path: Path
     robot: Robot
     links: tuple[LinkResult, ...]
@@ -67,10 +164,37 @@ class FixResult:
     def changed(self) -> bool:
         return self.output != self.original
 
+    def link(self, name: str) -> LinkResult:
+        """The verdict of link ``name`` (KeyError if there is none)."""
+        for r in self.links:
+            if r.name == name:
+                return r
+        raise KeyError(name)
+
+    @property
+    def recomputed(self) -> tuple[str, ...]:
+        """Names of the links recomputed from their geometry (or a spec)."""
+        return tuple(r.name for r in self.links if r.status == Status.RECOMPUTED)
+
+    @property
+    def changed_links(self) -> tuple[str, ...]:
+        """Names of the links whose inertial the output changes (recomputed or repaired)."""
+        return tuple(r.name for r in self.links if r.changed)
+
+    @property
+    def findings(self) -> tuple[Finding, ...]:
+        """Every link's findings, in link order."""
+        return tuple(f for r in self.links for f in r.findings)
+
+    @property
+    def unverified(self) -> tuple[LinkResult, ...]:
+        """Links some of whose geometry could not be read: they were not verified."""
+        return tuple(r for r in self.links if r.unverified)
+
     @property
     def left(self) -> tuple[LinkResult, ...]:
         """Links that should have been computed and were left as they were."""
-        return tuple(r for r in self.links if r.status == "left")
+        return tuple(r for r in self.links if r.status == Status.LEFT)
 
     def left_error(self, r: LinkResult) -> UrdfError:
         """A link left as it was, as an error naming file, line and link."""

@@ -104,6 +104,8 @@ def plot_errors(comparisons: Sequence[LinkComparison], png_path: str | Path, *,
         for v, verdict in zip(values, series["verdict"][:n], strict=True):
             if verdict == "invalid":
                 colors.append("#7f7f7f")
+            elif verdict == "kept" and tol is not None and v is not None and v > tol:
+                colors.append("#6baed6")  # beyond tolerance, but fix keeps it as written
             elif tol is not None and v is not None and v > tol:
                 colors.append("#d62728")
             else:
@@ -126,12 +128,13 @@ def plot_errors(comparisons: Sequence[LinkComparison], png_path: str | Path, *,
         ax.grid(axis="x", alpha=0.3)
     axes[0][0].set_yticks(ypos)
     axes[0][0].set_yticklabels(
-        [f"{name} [invalid]" if v == "invalid" else name
+        [f"{name} [{v}]" if v in ("invalid", "kept") else name
          for name, v in zip(links, series["verdict"][:n], strict=True)], fontsize=8)
     axes[0][0].invert_yaxis()
     head = title or "inertial comparison"
     more = f" (worst {n} of {n_all} links)" if n_all > n else f" ({n_all} links)"
-    fig.suptitle(f"{head}{more}: red = beyond tolerance, grey = invalid side",
+    fig.suptitle(f"{head}{more}: red = beyond tolerance, blue = beyond it but kept by fix, "
+                 "grey = invalid side",
                  fontsize=10)
     fig.tight_layout()
     fig.savefig(png_path, dpi=110)

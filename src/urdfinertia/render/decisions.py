@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-from collections import Counter
-from collections.abc import Mapping
+from collections.abc import Sequence
 
 from rich.console import Console
 from rich.table import Table
 
 from urdfinertia.link.apply import mass_change
-from urdfinertia.link.policy import Decision
-from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.link.results import Action, FixResult, LinkResult
 
 
 def link_notes(r: LinkResult, warnings: bool = True) -> list[str]:
@@ -27,9 +25,14 @@ def link_notes(r: LinkResult, warnings: bool = True) -> list[str]:
 
 
 def decision_dict(r: LinkResult) -> dict[str, object]:
-    """JSON fields of one link's decision."""
-    return {"decision": r.decision, "kept": list(r.kept), "derived": list(r.derived),
-            "error_bar": r.error_bar.as_dict() if r.error_bar is not None else None}
+    """JSON fields of one link's verdict: the decision and its grounds."""
+    from urdfinertia.render.results_json import finding_dict
+
+    return {"action": str(r.action) if r.action else None, "why": r.why,
+            "decision": r.decision, "kept": list(r.kept), "derived": list(r.derived),
+            "error_bar": r.error_bar.as_dict() if r.error_bar is not None else None,
+            "findings": [finding_dict(f) for f in r.findings],
+            "unverified": list(r.unverified)}
 
 
 def print_mass_summary(result: FixResult, console: Console, quiet: bool = False) -> None:
@@ -42,18 +45,38 @@ def print_mass_summary(result: FixResult, console: Console, quiet: bool = False)
                   else str(change), highlight=False)
 
 
-def plan_table(plan: Mapping[str, Decision], title: str) -> Table:
-    """Links ``fix`` would not keep as they are, with why; a count of the kept ones."""
-    counts = Counter(d.action for d in plan.values())
-    table = Table(title=title, caption=f"{counts['keep']} link(s) would be kept as written")
+def _worth_listing(r: LinkResult) -> bool:
+    """Not a plausible link kept as written with nothing to say about it."""
+    return r.action not in (Action.KEEP, Action.LEAVE) or bool(r.unverified) or any(
+        f.severity != "info" for f in r.findings)
+
+
+def plan_table(verdicts: Sequence[LinkResult], title: str) -> Table:
+    """What ``fix`` would do with each link it would change, or that has findings or was
+    not verified; a count of the plausible links kept as written."""
+    quiet = sum(not _worth_listing(r) for r in verdicts)
+    table = Table(title=title, caption=f"{quiet} other link(s) would be kept as written")
     for col in ("link", "fix would"):
         table.add_column(col, overflow="fold")
-    for d in plan.values():
-        if d.action != "keep":
-            table.add_row(d.link, d.describe(done=False))
+    for r in verdicts:
+        if _worth_listing(r):
+            table.add_row(r.name, r.planned)
     return table
 
 
-def plan_dict(plan: Mapping[str, Decision]) -> list[dict[str, object]]:
-    return [{"link": d.link, "action": d.action, "why": d.why,
-             "text": d.describe(done=False)} for d in plan.values()]
+def plan_dict(verdicts: Sequence[LinkResult]) -> list[dict[str, object]]:
+    """JSON rows of check's plan: every link's action, resulting status and reason."""
+    return [{"link": r.name, "action": str(r.action) if r.action else None,
+             "status": str(r.status), "why": r.why, "text": r.planned,
+             "unverified": list(r.unverified)} for r in verdicts]
+
+
+def unverified_summary(verdicts: Sequence[LinkResult]) -> str | None:
+    """One line for the links not verified ("not verified: 3 meshes unresolved in 2
+    links"), or None when everything was read."""
+    links = [r for r in verdicts if r.unverified]
+    if not links:
+        return None
+    n = sum(len(r.unverified) for r in links)
+    return (f"not verified: {n} mesh{'es' if n != 1 else ''} unresolved or unreadable in "
+            f"{len(links)} link{'s' if len(links) != 1 else ''}")

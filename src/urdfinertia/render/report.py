@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from urdfinertia import __version__
-from urdfinertia.analysis.check import Finding, check_robot
+from urdfinertia.analysis.check import Finding, check_description
 from urdfinertia.analysis.compare import LinkComparison, compare_with_geometry, summary
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import read_description
@@ -25,7 +25,7 @@ from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.fix import fix_robot
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.policy import every_link
-from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.link.results import FixResult, LinkResult, Status
 from urdfinertia.render.compare_plot import error_series
 from urdfinertia.render.scene import (
     DEFAULT_VIEW_FACES,
@@ -57,11 +57,15 @@ class LinkRow:
 
     @property
     def recomputed(self) -> MassProperties | None:
-        return self.fix.assembly.total if self.fix.assembly is not None else None
+        """What ``fix`` writes for the link when it changes it (None: kept as written)."""
+        return self.fix.after if self.fix.changed else None
 
 
 @dataclass(frozen=True, eq=False)
 class ReportData:
+    """The report's content: ``fix`` is the default fix (its verdicts and what it writes),
+    ``geometry`` every link computed from its geometry (compare's side B)."""
+
     fix: FixResult
     options: FixOptions
     rows: tuple[LinkRow, ...]
@@ -75,14 +79,19 @@ def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
             face_budget: int = DEFAULT_VIEW_FACES) -> ReportData:
     """Run fix, compare and check on ``path`` and build the 3-D scene.
 
+    The links' verdicts are ``fix``'s (the same objects ``check`` and ``compare`` render):
+    the recomputed values shown are what ``fix`` writes, the findings ``check``'s.
     The file is read leniently (non-finite inertial values are kept) so that a broken
     inertial shows up as invalid in the report instead of stopping it.
     """
     robot, data = read_description(path, lenient=True)
     meshes = MeshLibrary(options.package_dirs, options.max_faces)
-    fix = fix_robot(robot, data, every_link(options), meshes)  # the geometry's view
-    comparisons = compare_with_geometry(path, options, fix_result=fix)
-    findings = check_robot(robot, meshes=meshes, options=options)
+    checked = check_description(robot, meshes=meshes, options=options)
+    fix = FixResult(robot.path or Path(path), robot, checked.links, data, data)
+    geometry = fix_robot(robot, data, every_link(options), meshes)  # compare's side B
+    comparisons = compare_with_geometry(path, options, fix_result=geometry,
+                                        verdicts=checked.links, meshes=meshes)
+    findings = checked.findings
     scene = build_scene(robot, meshes, view=view, face_budget=face_budget)
     by_link = {c.link: c for c in comparisons}
     rows = []
@@ -92,8 +101,8 @@ def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
         boxes = []
         if existing is not None:
             boxes.append(equivalent_box(existing, pose, link.name, "existing"))
-        if result.assembly is not None:
-            boxes.append(equivalent_box(result.assembly.total, pose, link.name, "recomputed"))
+        if result.changed and result.after is not None:
+            boxes.append(equivalent_box(result.after, pose, link.name, "recomputed"))
         mine = tuple(f for f in findings if f.link == link.name)
         rows.append(LinkRow(link.name, existing, why, result, by_link.get(link.name), mine,
                             tuple(boxes)))
@@ -262,7 +271,7 @@ def _mass_cells(row: LinkRow) -> list[str]:
                     _vec(moments) if moments is not None else "-"]
         if row.existing is None:
             existing[0] += f' <span class="bad">{html.escape(row.existing_note)}</span>'
-    recomputed = (["-"] * 3 if r is None else
+    recomputed = ((["kept"] if prev is not None else ["-"]) * 3 if r is None else
                   [_g(r.mass), _vec(r.com), _vec(r.principal()[0])])
     return [_pair(e, x) for e, x in zip(existing, recomputed, strict=True)]
 
@@ -302,8 +311,8 @@ def _geometry_cell(row: LinkRow) -> str:
 
 def _notes_cell(row: LinkRow) -> str:
     notes = []
-    if row.comparison is not None and row.comparison.decision:
-        notes.append(f"fix: {row.comparison.decision}")
+    if row.fix.decision:
+        notes.append(f"fix: {row.fix.decision}")
     if row.fix.assembly is not None:
         notes.append(f"mass: {row.fix.assembly.mass_source}")
     notes += list(row.fix.warnings)
@@ -353,7 +362,7 @@ ul.notes{color:#5f6368}
 
 def _summary_html(data: ReportData) -> str:
     n = len(data.rows)
-    done = sum(r.recomputed is not None for r in data.rows)
+    counts = {s: sum(r.fix.status == s for r in data.rows) for s in Status}
     verdicts = ", ".join(f"{k} {v}" for k, v in data.summary.get("verdicts", {}).items())
     findings = [f for r in data.rows for f in r.findings] + list(data.robot_findings)
     severities = ", ".join(f"{sev} {sum(f.severity == sev for f in findings)}"
@@ -361,7 +370,8 @@ def _summary_html(data: ReportData) -> str:
     medians = data.summary.get("median", {})
     median = ", ".join(f"{k} {v:.3g}" for k, v in medians.items() if v is not None)
     items = [html.escape(x) for x in (
-        f"{n} links, {done} recomputed from geometry",
+        f"{n} links: fix recomputes {counts[Status.RECOMPUTED]}, repairs "
+        f"{counts[Status.REPAIRED]} and keeps the others as written",
         f"compare verdicts: {verdicts or 'none'}" + (f" (medians: {median})" if median else ""),
         f"check findings: {severities}",
         f"3-D view: {len(data.scene.meshes)} elements, {data.scene.face_count} faces "

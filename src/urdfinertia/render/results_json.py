@@ -9,6 +9,7 @@ import numpy as np
 from urdfinertia.descriptions.model import Problem
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.apply import mass_change
+from urdfinertia.link.findings import Finding
 from urdfinertia.link.results import FixResult, LinkResult
 from urdfinertia.render.decisions import decision_dict
 
@@ -27,8 +28,9 @@ def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:
 
 
 def link_dict(r: LinkResult) -> dict[str, Any]:
-    out: dict[str, Any] = {"link": r.name, "status": r.status, "geometry": r.geometry,
-                           "warnings": list(r.warnings), **decision_dict(r)}
+    out: dict[str, Any] = {"link": r.name, "status": str(r.status), "geometry": r.geometry,
+                           "warnings": list(r.warnings), **decision_dict(r),
+                           **before_after_dict(r)}
     if r.reason is not None:
         out["reason"] = r.reason
     if r.problems:
@@ -48,6 +50,19 @@ def link_dict(r: LinkResult) -> dict[str, Any]:
             for pr in r.assembly.parts
         ]
     return out
+
+
+def finding_dict(f: Finding) -> dict[str, Any]:
+    """A finding with its rule id (the fields ``check --json`` gives)."""
+    return {"link": f.link, "severity": f.severity, "code": f.code, "rule": f.rule.id,
+            "message": f.message, "line": f.line}
+
+
+def before_after_dict(r: LinkResult) -> dict[str, Any]:
+    """The values as written and what the output carries (None: absent or invalid)."""
+    before, after = r.before, r.after
+    return {"before": mass_properties_dict(before) if before is not None else None,
+            "after": mass_properties_dict(after) if after is not None else None}
 
 
 def problem_dict(p: Problem) -> dict[str, Any]:

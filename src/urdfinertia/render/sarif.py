@@ -78,6 +78,9 @@ def sarif_document(files: list[CheckedFile], *, with_baseline: bool = False,
                 "partialFingerprints": {"urdfInertiaKey/v1": _fingerprint(
                     rule.id, uri, finding.link)},
             }
+            decision = cf.decision_of(finding.link)
+            if decision is not None:  # what fix would do, as every command says it
+                result["properties"] = {"fix": decision}
             if with_baseline:
                 result["baselineState"] = "unchanged" if known else "new"
             results.append(result)

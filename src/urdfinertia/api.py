@@ -1,0 +1,131 @@
+"""The library's commands: ``check``, ``fix``, ``compare``, ``explain`` and ``report`` in Python.
+
+Each takes a description's path and the command line's options as keyword arguments with
+the command line's defaults, and returns typed objects: the same per-link verdicts
+(:class:`~urdfinertia.link.results.LinkResult`) every command renders. The command line
+is a thin shell over the same functions, so the answers agree link by link::
+
+    import urdfinertia
+    found = urdfinertia.check("robot.urdf")          # geometry read, as the CLI does
+    result = urdfinertia.fix("robot.urdf", density=1200.0)
+    print(result.recomputed, [r.status for r in result.links])
+
+Options (:class:`~urdfinertia.link.options.FixOptions`): ``geometry`` ("auto",
+"collision", "visual"), ``mass`` ("keep", "density"), ``density`` (kg/m^3),
+``package_dirs`` (package name -> folder), ``max_faces``, ``spec`` (a path or a loaded
+spec), ``strict``, ``keep_auto``, ``recompute`` ("needed", "all", "links") and ``links``.
+This module may import every layer below the command line.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from urdfinertia.analysis.check import CheckResult
+    from urdfinertia.analysis.compare import LinkComparison
+    from urdfinertia.analysis.explain import Breakdown
+    from urdfinertia.link.options import FixOptions
+    from urdfinertia.link.results import FixResult
+    from urdfinertia.render.report import ReportData
+
+
+def make_options(**options: Any) -> FixOptions:
+    """:class:`FixOptions` from keyword arguments; ``spec`` may be a path, ``package_dirs``
+    a mapping of names to folders given as strings or paths."""
+    from urdfinertia.link.options import FixOptions
+    from urdfinertia.link.spec import load_spec
+
+    spec = options.get("spec")
+    if isinstance(spec, str | Path):
+        options["spec"] = load_spec(spec)
+    dirs = options.get("package_dirs")
+    if isinstance(dirs, Mapping):
+        options["package_dirs"] = {str(k): Path(v) for k, v in dirs.items()}
+    links = options.get("links")
+    if links:
+        options["links"] = tuple(links)
+        options.setdefault("recompute", "links")
+    return FixOptions(**options)
+
+
+def check(path: str | Path, *, geometry: bool = True, **options: Any) -> CheckResult:
+    """Lint the description at ``path``: findings and what ``fix`` would do, per link.
+
+    ``geometry=False`` checks the written values only (``check --no-geometry``).
+    ``result.exit_code()`` is the command line's exit code without a baseline.
+    """
+    from urdfinertia.analysis.check import check_description
+    from urdfinertia.descriptions.formats import read_description
+
+    opts = make_options(**options)
+    robot, _ = read_description(path, lenient=True)
+    return check_description(robot, options=opts, geometry=geometry)
+
+
+def fix(path: str | Path, **options: Any) -> FixResult:
+    """Fix the inertials of the description at ``path``; nothing is written.
+
+    ``result.output`` holds the patched document, ``result.links`` the verdicts.
+    """
+    from urdfinertia.link.fix import fix_file
+
+    return fix_file(path, make_options(**options))
+
+
+def compare(path: str | Path, against: str | Path | None = None, *,
+            tol_com: float | None = None, tol_inertia: float | None = None,
+            tol_mass: float | None = None, **options: Any) -> list[LinkComparison]:
+    """The written inertials of ``path`` against its geometry (with ``fix``'s decision for
+    each link), or against the inertials of the description ``against``."""
+    from urdfinertia.analysis import compare as _compare
+
+    tols = {"tol_com": _compare.DEFAULT_TOL_COM if tol_com is None else tol_com,
+            "tol_inertia": _compare.DEFAULT_TOL_INERTIA if tol_inertia is None
+            else tol_inertia,
+            "tol_mass": _compare.DEFAULT_TOL_MASS if tol_mass is None else tol_mass}
+    if against is not None:
+        return _compare.compare_files(path, against, **tols)
+    return _compare.compare_with_geometry(path, make_options(**options),
+                                          tol_com=tols["tol_com"],
+                                          tol_inertia=tols["tol_inertia"],
+                                          tol_mass=tols["tol_mass"])
+
+
+def explain(path: str | Path, link: str, **options: Any) -> Breakdown:
+    """Link ``link`` of ``path``: what ``fix`` writes and its geometry element by element."""
+    from urdfinertia.analysis.explain import explain_link
+    from urdfinertia.descriptions.formats import read_description
+
+    robot, _ = read_description(path)
+    return explain_link(robot, link, make_options(**options))
+
+
+@dataclass(frozen=True, eq=False)
+class Report:
+    """The HTML report of one description: ``html`` (one self-contained page) and the
+    ``data`` it shows."""
+
+    html: str
+    data: ReportData
+
+    def save(self, path: str | Path) -> Path:
+        """Write the page to ``path`` atomically; returns the path."""
+        from urdfinertia.atomic import atomic_write_bytes
+
+        atomic_write_bytes(Path(path), self.html.encode("utf-8"))
+        return Path(path)
+
+
+def report(path: str | Path, *, view: str = "visual", face_budget: int | None = None,
+           **options: Any) -> Report:
+    """The HTML report of ``path`` (``report.save("robot.html")`` writes it)."""
+    from urdfinertia.render.report import collect, render_html
+    from urdfinertia.render.scene import DEFAULT_VIEW_FACES
+
+    data = collect(path, make_options(**options), view=view,
+                   face_budget=DEFAULT_VIEW_FACES if face_budget is None else face_budget)
+    return Report(render_html(data), data)

@@ -1,0 +1,167 @@
+"""One link's inertial from its geometry: the per-link computation ``fix`` orchestrates.
+
+:func:`compute_link` turns a link's geometry (or its spec entry) into parts and assembles
+them (:mod:`urdfinertia.link.assemble`); an element whose parts cannot be made (a missing
+or unreadable mesh, a mesh enclosing no volume) is dropped with a :class:`Problem` and the
+link is computed from the rest; a link with nothing usable left, or whose parts cannot be
+combined, is left exactly as it was (status "left", with the reason).
+
+Imports go one way: :mod:`.apply` (one link's decision) imports this module and
+:mod:`.fix` (the whole robot) imports both; nothing here imports either.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
+from urdfinertia.link.results import LinkResult, Status
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from urdfinertia.descriptions.model import GeometryRef, Link, Problem
+    from urdfinertia.link.assemble import Assembly
+    from urdfinertia.link.parts import MeshSource, Part
+
+# The computing modules (numpy, lxml, the mesh readers) are imported by the functions that
+# use them: a warm batch run needs only FixOptions and reuses every result.
+
+
+def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: Path,
+                 problems: Sequence[Problem] = (), *, trust_mass: bool = True) -> LinkResult:
+    """Recompute one link, or report why it stays untouched or is left as it was.
+
+    ``trust_mass=False``: the written mass is not kept even with ``options.mass == "keep"``
+    (the policy found it implausible, :mod:`urdfinertia.link.policy`).
+
+    ``problems``: what the reader already read past in this link (dropped elements,
+    ignored values); they are reported with the link's result.
+    """
+    from urdfinertia.link.assemble import assemble
+    from urdfinertia.link.mass import link_mass_source
+
+    if options.keep_auto and link.auto_inertial:
+        return LinkResult(link.name, Status.UNTOUCHED, "none", None, link.inertial,
+                          ("auto inertia kept (--keep-auto): the simulator computes it",
+                           *link.notes))
+    spec = options.spec
+    link_spec = spec.link(link.name) if spec is not None else None
+    found = list(problems)
+    if link_spec is not None:
+        parts, _ = link_spec.parts(link, meshes, urdf_dir)
+        role = "spec"
+        source = link_spec.mass_source(link, options, trust_mass=trust_mass)
+    else:
+        role, refs = select_geometry(link, options.geometry)
+        parts = _usable_parts(link, refs, meshes, urdf_dir, found)
+        if refs and not parts and options.geometry == "auto" and role == "collision" \
+                and link.visuals:
+            # every collision element was dropped: the visuals describe the same body
+            role = "visual"
+            parts = _usable_parts(link, link.visuals, meshes, urdf_dir, found)
+        if not parts:
+            return _not_computed(link, found)
+        source = link_mass_source(link, options, trust_mass=trust_mass)
+    try:
+        try:
+            result = assemble(parts, source)
+        except ValueError as exc:  # e.g. an overflow from an absurd density or mass
+            raise UrdfInertiaError(f"mass properties cannot be computed: {exc}") from None
+    except UrdfInertiaError as exc:
+        if link_spec is not None:  # the spec, not the URDF, made these parts
+            raise exc.with_context(file=link_spec.path, link=link.name) from None
+        return LinkResult(link.name, Status.LEFT, role, None, link.inertial, link.notes,
+                          tuple(found), exc.cause)
+    warnings = link.notes + _warnings(parts, result)
+    return LinkResult(link.name, Status.RECOMPUTED, role, result, link.inertial, warnings,
+                      tuple(found))
+
+
+def _usable_parts(link: Link, refs: Sequence[GeometryRef], meshes: MeshSource,
+                  urdf_dir: Path, found: list[Problem]) -> list[Part]:
+    """The parts of every element of ``refs`` that makes them; each that does not is
+    dropped with a problem appended to ``found``."""
+    from urdfinertia.descriptions.model import Problem
+    from urdfinertia.link.parts import geometry_parts
+
+    parts: list[Part] = []
+    for ref in refs:
+        try:
+            parts.extend(geometry_parts(ref, meshes, urdf_dir))
+        except UrdfInertiaError as exc:
+            found.append(Problem(problem_code(exc), exc.cause, line=exc.line or ref.line,
+                                 link=link.name, element=ref.label, kind="dropped"))
+    return parts
+
+
+def _not_computed(link: Link, found: list[Problem]) -> LinkResult:
+    """A link without parts: untouched when it had nothing to compute from, else left."""
+    if not found:
+        return LinkResult(link.name, Status.UNTOUCHED, "none", None, link.inertial,
+                          ("no geometry: inertial left as it was", *link.notes))
+    dropped = [p for p in found if p.kind == "dropped"]
+    ignored = [p for p in found if p.kind == "ignored"]
+    if dropped:
+        first = dropped[0]
+        more = f" and {len(dropped) - 1} more" if len(dropped) > 1 else ""
+        reason = (f"no usable geometry left ({first.element} line {first.line}: "
+                  f"{first.cause}{more})")
+    elif ignored:
+        reason = f"{ignored[0].cause}, and no geometry to compute it from"
+    else:  # only lenient notes: nothing wrong with the link itself
+        return LinkResult(link.name, Status.UNTOUCHED, "none", None, link.inertial,
+                          ("no geometry: inertial left as it was", *link.notes), tuple(found))
+    return LinkResult(link.name, Status.LEFT, "none", None, link.inertial, (), tuple(found),
+                      reason)
+
+
+#: Problem codes of element errors raised while making parts, by a phrase of the message.
+_CODES = (
+    ("not found", "mesh-missing"),
+    ("cannot resolve package", "mesh-unresolved"),
+    ("encloses no volume", "no-volume"),
+    ("no valid solid", "no-volume"),
+    ("unsupported mesh format", "mesh-format"),
+    ("only files are read", "mesh-url"),
+    ("only local files", "mesh-url"),
+    ("not allowed", "mesh-refused"),
+    ("limit", "mesh-too-large"),
+)
+
+
+def problem_code(exc: UrdfInertiaError) -> str:
+    """Short category of an element error, for reports ("mesh-missing", ...)."""
+    for phrase, code in _CODES:
+        if phrase in exc.cause:
+            return code
+    return "mesh-unreadable"
+
+
+def _warnings(parts: list[Part], result: Assembly) -> tuple[str, ...]:
+    import numpy as np
+
+    out: list[str] = []
+    for p in parts:
+        for note in p.notes:
+            out.append(f"{p.name}: {note}")
+    volume = sum(-p.volume if p.cavity else p.volume for p in parts)
+    if volume > 0:
+        rho = result.total.mass / volume
+        lo, hi = PLAUSIBLE_DENSITY
+        if not lo <= rho <= hi:
+            out.append(f"implied density {rho:.3g} kg/m^3 is outside {lo:g}..{hi:g} "
+                       "(unit slip or placeholder mass?)")
+    # distance of each part's CoM from the link origin plus its radius of gyration: a thin
+    # hollow part in millimetres has a small volume but a large gyration radius
+    extent = max(
+        float(np.linalg.norm(p.pose[:3, :3] @ p.unit.com + p.pose[:3, 3]))
+        + float(np.sqrt(max(np.trace(p.unit.inertia), 0.0) / (2.0 * abs(p.unit.mass))))
+        if p.unit.mass else float(np.linalg.norm(p.pose[:3, 3]))
+        for p in parts
+    )
+    if extent > 10.0:
+        out.append(f"geometry spans {extent:.3g} m: millimetre mesh without scale?")
+    return tuple(dict.fromkeys(out))
