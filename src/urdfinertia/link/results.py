@@ -11,6 +11,7 @@ if TYPE_CHECKING:
     from urdfinertia.errors import UrdfError
     from urdfinertia.link.assemble import Assembly
     from urdfinertia.link.errorbar import ErrorBar
+    from urdfinertia.link.save import SaveReport
 
 
 #: Problem kinds that ``--strict`` refuses ("lenient" readings are warnings even then).
@@ -66,6 +67,24 @@ class FixResult:
     @property
     def changed(self) -> bool:
         return self.output != self.original
+
+    def save(self, path: str | Path | None = None, *, in_place: bool = False,
+             backup: bool = True, keep_mesh_paths: bool = False) -> SaveReport:
+        """Write the fixed document, as ``urdf-inertia fix -o PATH`` (or ``--in-place``).
+
+        Relative references are rewritten to resolve from ``path``'s folder, the write is
+        atomic, and ``in_place`` keeps ``<input>.bak`` unless ``backup=False``. See
+        :func:`urdfinertia.link.save.save_result` for the parameters and errors.
+
+        Returns
+        -------
+        SaveReport
+            The file written, whether it was, and the references rewritten.
+        """
+        from urdfinertia.link.save import save_result
+
+        return save_result(self, path, in_place=in_place, backup=backup,
+                           keep_mesh_paths=keep_mesh_paths)
 
     @property
     def left(self) -> tuple[LinkResult, ...]:
