@@ -103,9 +103,11 @@ def run(args: argparse.Namespace) -> int:
     plan = writeback.write_back(args, result) if writeback.wants_write_back(args, result) \
         else None
     rewritten = 0
-    if plan is None and (args.in_place or args.output is not None):
-        # the library's one saving path: relocated references, atomic write, backup
-        rewritten = result.save(args.output, in_place=args.in_place,
+    # the library's one saving path: relocated references, atomic write, backup
+    if args.in_place and plan is None:
+        result.save(in_place=True)
+    elif args.output is not None:
+        rewritten = result.save(args.output,
                                 keep_mesh_paths=args.keep_mesh_paths).references_rewritten
     if doc is not None:
         doc["mesh_references_rewritten"] = rewritten

@@ -25,9 +25,41 @@ if TYPE_CHECKING:
     from urdfinertia.descriptions.model import Robot
     from urdfinertia.inertia.massprops import MassProperties
 
-#: New inertials for :attr:`DescriptionFormat.patch`: link name -> (mass properties in the
-#: link frame, the link's length scale in m, below which round-off is written as 0).
-NewInertials = Mapping[str, "tuple[MassProperties, float]"]
+#: The values of an inertial: what a writer is told was derived (the others were kept).
+VALUES = frozenset({"mass", "com", "tensor"})
+
+
+@dataclass(frozen=True)
+class NewInertial:
+    """A link's inertial as :attr:`DescriptionFormat.patch` is to write it.
+
+    props : the mass properties in the link frame.
+    size : the link's length scale in m, below which round-off is written as 0.
+    derived : which of "mass", "com" and "tensor" were derived; the others were kept as
+        written, and a writer leaves their text byte for byte where the document allows.
+    """
+
+    props: MassProperties
+    size: float
+    derived: frozenset[str] = VALUES
+
+    @property
+    def partial(self) -> bool:
+        """Some value was kept: only the derived ones are to be written."""
+        return self.derived != VALUES
+
+
+#: New inertials for :attr:`DescriptionFormat.patch`: link name -> a :class:`NewInertial`,
+#: or (mass properties, size) for one whose every value was derived.
+NewInertials = Mapping[str, "NewInertial | tuple[MassProperties, float]"]
+
+
+def new_inertial(value: NewInertial | tuple[MassProperties, float]) -> NewInertial:
+    """``value`` as a :class:`NewInertial` (a pair: every value derived)."""
+    if isinstance(value, NewInertial):
+        return value
+    props, size = value
+    return NewInertial(props, size)
 
 
 @dataclass(frozen=True)
