@@ -1,7 +1,7 @@
 """Fix every MJCF model of the installed collections that uses compiler folders or includes,
 save it into another folder, and compile the output there with MuJoCo.
 
-Usage: python scripts/relocate_check.py [--limit N] [--no-fix]
+Usage: python scripts/relocate_check.py [--limit N]
 
 The collections (dm_control, robosuite, gymnasium_robotics, metaworld) are read as files:
 ``pip install --no-deps NAME`` is enough. Prints one line per model that fails and the
@@ -54,7 +54,6 @@ def compiles(path: Path) -> str | None:
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--limit", type=int, default=0)
-    ap.add_argument("--no-fix", action="store_true", help="recompute no link: only the saving is checked")
     args = ap.parse_args()
     paths = models()[: args.limit or None]
     out_root = Path(tempfile.mkdtemp(prefix="relocate_check"))
@@ -67,7 +66,7 @@ def main() -> int:
             continue
         counts["compile_in_place"] += 1
         try:
-            result = fix_file(path, FixOptions(recompute="links" if args.no_fix else "needed"))
+            result = fix_file(path, FixOptions())
         except UrdfInertiaError as exc:
             print(f"not fixed: {path}: {exc.cause}", flush=True)
             continue

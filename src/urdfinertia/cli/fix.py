@@ -71,6 +71,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     options = options_from_args(args)
+    if _to_terminal(args):
+        raise UrdfInertiaError(
+            "not printing the fixed document on the terminal: write it with -o FILE (or "
+            "--in-place), or redirect it: urdf-inertia fix ROBOT > FILE", file=args.urdf)
     if getattr(args, "repair_only", False):
         from urdfinertia.link.repair_only import repair_file
 
@@ -139,6 +143,18 @@ def run(args: argparse.Namespace) -> int:
     return max(fix_exit_code(len(left)), engine_regressions(args, result, options))
 
 
+def _to_terminal(args: argparse.Namespace) -> bool:
+    """Whether the fixed document would go to stdout and stdout is a terminal (as a
+    filter, piped or redirected, stdout is where it belongs)."""
+    if args.output is not None or args.in_place or getattr(args, "write_back", False) \
+            or is_batch(args):
+        return False
+    try:
+        return sys.stdout.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
 def engine_regressions(args: argparse.Namespace, result, options) -> int:
     """``--engines``: load input and output in each engine; 1 if the output fares worse."""
     engines = engine_request(args)
@@ -159,11 +175,10 @@ def engine_regressions(args: argparse.Namespace, result, options) -> int:
 
 
 def _mass_summary(result, quiet: bool) -> None:
-    from rich.console import Console
-
+    from urdfinertia.render.console import output_console
     from urdfinertia.render.decisions import print_mass_summary
 
-    print_mass_summary(result, Console(stderr=True, width=160), quiet=quiet)
+    print_mass_summary(result, output_console(stderr=True), quiet=quiet)
 
 
 __all__ = ["add_arguments", "run", "UrdfInertiaError"]
