@@ -190,3 +190,19 @@ def test_urdf_rotated_origin_gets_zero_angles_with_a_derived_tensor(tmp_path):
         b'ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"',
         b'ixx="0.001" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.003"')
     assert next_tag(out, 0) is not None
+
+
+def test_repair_only_changes_only_the_tensor_text(tmp_path):
+    from urdfinertia.link.repair_only import repair_file
+
+    text = (b'<robot name="r"><link name="a"><inertial>\n'
+            b'  <origin rpy="0 0 0" xyz="1.0517e-02 0 0"/>\n'
+            b'  <mass value="1.0517e-02"/>\n'
+            b'  <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="5e-3"/>\n'
+            b'</inertial></link></robot>\n')
+    path = tmp_path / "r.urdf"
+    path.write_bytes(text)
+    out = repair_file(path).output
+    lines_in, lines_out = text.splitlines(), out.splitlines()
+    assert [i for i, (a, b) in enumerate(zip(lines_in, lines_out, strict=True)) if a != b] \
+        == [3]  # the <inertia> line only (A + B < C lifted)
