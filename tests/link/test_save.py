@@ -92,3 +92,16 @@ def test_save_into_a_missing_folder_writes_nothing(inputs, tmp_path):
     with pytest.raises(OutputError, match="cannot write"):
         result.save(tmp_path / "no" / "such" / "r.urdf")
     assert not (tmp_path / "no").exists()
+
+
+def test_save_of_a_xacro_relocates_the_expansion_mesh_references(inputs, tmp_path):
+    src = inputs / "urdf" / "r.urdf.xacro"
+    src.write_text(URDF.replace('<robot name="r">',
+                                '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+                                '<xacro:property name="m" value="1"/>'))
+    result = fix_file(src, FixOptions(recompute="all"))
+    report = result.save(tmp_path / "r.urdf")
+    assert report.references_rewritten == 1
+    assert b'filename="in/sdf/meshes/box.stl"' in (tmp_path / "r.urdf").read_bytes()
+    with pytest.raises(OutputError, match="not replaced by its expansion"):
+        result.save(in_place=True)

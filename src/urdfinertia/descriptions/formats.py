@@ -71,7 +71,9 @@ class DescriptionFormat:
     suffixes : file suffixes, lower case, used when the root element does not decide.
     read : (bytes, path) -> Robot; strict: refuses what ``fix`` cannot compute from.
     read_lenient : (bytes, path) -> Robot; keeps non-finite and odd values for the linters.
-    patch : (bytes, new inertials) -> bytes; changes nothing but the inertial elements.
+    patch : (bytes, new inertials) -> bytes; changes nothing but the inertial elements,
+        and of an inertial with kept values only the derived values' text
+        (:class:`NewInertial`).
     """
 
     name: str
@@ -86,7 +88,8 @@ class DescriptionFormat:
     #: -> URDF), the document that ``read`` reads and ``patch`` edits
     expand: Callable[[bytes, Path], bytes] | None = None
     #: (bytes, source folder, output folder) -> (bytes, references rewritten): relative
-    #: mesh references made to resolve from the output's folder; None: nothing to do
+    #: references (meshes, textures, included files, asset folders) made to resolve from
+    #: the output's folder (:mod:`urdfinertia.descriptions.references`); None: nothing to do
     relocate: Callable[[bytes, Path, Path], tuple[bytes, int]] | None = None
 
 
@@ -149,7 +152,8 @@ def detect_format(data: bytes, path: Path) -> DescriptionFormat:
 
 def relocate_references(data: bytes, path: Path, output: Path) -> tuple[bytes, int]:
     """``data`` (a document read from ``path``) made to work when written at ``output``:
-    relative mesh references rewritten; and how many were."""
+    its format's relative references rewritten (URDF meshes; MJCF compiler folders and
+    includes; SDFormat URIs); and how many were."""
     fmt = detect_format(data, path)
     if fmt.relocate is None:
         return data, 0
