@@ -77,11 +77,11 @@ def main() -> int:
         error = compiles(out)
         if error is None:
             counts["relocated_ok"] += 1
-        else:
-            print(f"FAILS from another folder: {path}: {error}", flush=True)
         base = out.with_name("baseline.xml")
         result.save(base, keep_mesh_paths=True)
         counts["baseline_ok"] += compiles(base) is None
+        print(f"{'ok' if error is None else 'FAILS from another folder'}: {path}"
+              f"{': ' + error if error else ''}", flush=True)
     print(f"{counts['models']} models with compiler folders or includes; "
           f"{counts['compile_in_place']} compile where they lie; {counts['written']} "
           f"written by fix; {counts['relocated_ok']} of {counts['written']} compile from "
