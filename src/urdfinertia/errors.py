@@ -1,4 +1,10 @@
-"""The exception hierarchy. The CLI turns any of these into one line and exit code 2."""
+"""The exception hierarchy. The CLI turns any of these into one line and exit code 2.
+
+Every exception carries a short ``code`` naming its category ("mesh-missing",
+"mesh-too-large", ...): the class gives a default and the raiser may name a finer one
+(``MeshError(cause, code="no-volume")``). Reports and problem lists read the attribute,
+never the message's words.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +15,20 @@ class UrdfInertiaError(Exception):
     """A problem with the user's input or environment, reported without a traceback.
 
     The message names the file, and where known its line, the link and the cause.
+
+    Attributes
+    ----------
+    cause : str
+        What is wrong, without the location.
+    code : str
+        The category of the problem (the class's :attr:`default_code` unless the raiser
+        named another), as reports and the JSON output name it.
+    file, line, link : str, int, str or None
+        Where, as far as known.
     """
+
+    #: category of the class's problems, when the raiser names none
+    default_code = "error"
 
     def __init__(
         self,
@@ -18,9 +37,11 @@ class UrdfInertiaError(Exception):
         file: str | Path | None = None,
         line: int | None = None,
         link: str | None = None,
+        code: str | None = None,
     ) -> None:
         super().__init__(cause)
         self.cause = cause
+        self.code = code if code is not None else self.default_code
         self.file = str(file) if file is not None else None
         self.line = line
         self.link = link
@@ -46,16 +67,30 @@ class UrdfInertiaError(Exception):
 
 
 class UrdfError(UrdfInertiaError):
-    """The URDF cannot be read or holds invalid values."""
+    """The description cannot be read or holds invalid values."""
+
+    default_code = "bad-description"
 
 
 class MeshError(UrdfInertiaError):
-    """A referenced mesh is missing, unreadable, unsupported or unusable."""
+    """A referenced mesh is missing, unreadable, unsupported or unusable.
+
+    Codes: "mesh-missing" (no such file), "mesh-unresolved" (a ``package://`` or
+    ``model://`` that names no known folder), "mesh-url" (a remote or non-file URI),
+    "mesh-format" (a format no reader takes), "mesh-too-large" (over the size or face
+    limit), "no-volume" (encloses no volume), "mesh-unreadable" (anything else).
+    """
+
+    default_code = "mesh-unreadable"
 
 
 class SpecError(UrdfInertiaError):
     """The decomposition spec is invalid."""
 
+    default_code = "bad-spec"
+
 
 class OutputError(UrdfInertiaError):
     """An output cannot be written."""
+
+    default_code = "output"

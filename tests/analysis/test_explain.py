@@ -109,7 +109,8 @@ def test_cavity_contributes_negatively(breakdown):
     assert encoder.density == 8500.0  # brass from the built-in table
 
 
-def test_cli_table_and_json_agree_with_fix(tmp_path, capsys):
+def test_cli_table_and_json_agree_with_fix(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "250")  # piped output wraps at COLUMNS (default 100)
     assert main(["explain", str(NM7MAR), "--link", "link1", "--spec", str(NM7MAR_SPEC)]) == 0
     table = capsys.readouterr().out
     for word in ("r/housing", "k/body", "l/housing", "link total", "I_p,s", "pinned 14.4 kg"):
@@ -127,7 +128,8 @@ def test_cli_table_and_json_agree_with_fix(tmp_path, capsys):
     np.testing.assert_allclose(shares.sum(axis=0), 1.0, atol=1e-9)
 
 
-def test_cli_without_spec_uses_geometry_elements(capsys):
+def test_cli_without_spec_uses_geometry_elements(capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "250")  # piped output wraps at COLUMNS (default 100)
     assert main(["explain", str(NM7MAR), "--link", "link2"]) == 0
     out = capsys.readouterr().out
     assert "collision[0] 'link2_r'" in out and "kept 5 kg" in out

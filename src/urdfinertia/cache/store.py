@@ -61,13 +61,13 @@ DEFAULT_MAX_BYTES = 512 * 1024 * 1024
 MAX_ENTRY_BYTES = 16 * 1024 * 1024
 _ARRAYS = ("volume", "first", "second")
 T = TypeVar("T")
-_ERROR_KEYS = {"format", "key", "faces", "solid_fields", "mesh_fields", "error"}
+_ERROR_KEYS = {"format", "key", "faces", "solid_fields", "mesh_fields", "error", "code"}
 
 
 def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
     """The error :func:`load_mesh` raises, for a cache hit over the limit."""
     return MeshError(f"mesh {path} has {faces} faces, more than the limit "
-                     f"{max_faces} (raise it with --max-faces)")
+                     f"{max_faces} (raise it with --max-faces)", code="mesh-too-large")
 
 
 def cacheable(outcome: object, path: Path) -> bool:
@@ -386,6 +386,7 @@ def encode_entry(outcome: MeshSolids | MeshError, faces: int, key: str) -> bytes
                               "mesh_fields": _field_names(MeshSolids)}
     if isinstance(outcome, MeshError):
         header["error"] = str(outcome.cause)
+        header["code"] = str(outcome.code)
         return pack(header, np.zeros(0))
     solids = outcome.solids
     numbers = [np.array([float(s.volume) for s in solids], dtype=np.float64)]
@@ -415,10 +416,11 @@ def decode_entry(data: bytes, key: str) -> tuple[MeshSolids | MeshError, int] | 
     if not (isinstance(faces, int) and not isinstance(faces, bool) and faces > 0):
         return None
     if "error" in header:
-        cause = header["error"]
-        if not isinstance(cause, str) or len(numbers) or set(header) != _ERROR_KEYS:
+        cause, code = header["error"], header.get("code")
+        if not isinstance(cause, str) or not isinstance(code, str) or len(numbers) \
+                or set(header) != _ERROR_KEYS:
             return None
-        return MeshError(cause), faces
+        return MeshError(cause, code=code), faces
     extras, mesh_extra = header.get("solids"), header.get("mesh")
     if not (isinstance(extras, list) and isinstance(mesh_extra, dict)):
         return None

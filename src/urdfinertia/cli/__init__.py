@@ -68,7 +68,7 @@ def build_parser(argv: Sequence[str] | None = None,
     """The parser; given ``argv``, only the subcommand it names gets its full arguments
     (the others keep their one-line help), so one command does not import all."""
     parser = OneLineArgumentParser(
-        prog="urdf-inertia",
+        prog=PROG,
         description="Make the <inertial> tags of URDF robot descriptions right.",
     )
     parser.add_argument("--version", action="version", version=f"urdf-inertia {__version__}")
@@ -95,11 +95,45 @@ EXIT_ERROR = 2
 EXIT_INTERNAL = 3
 
 
+PROG = "urdf-inertia"
+
+
 class OneLineArgumentParser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line (``--help`` still shows the usage)."""
+    """argparse, but a usage error is one line (``--help`` still shows the usage), names
+    the subcommand once, and suggests the nearest option for a misspelled one."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(EXIT_ERROR, f"urdf-inertia: error: {self.prog}: {message} (see --help)\n")
+        command = self.prog.removeprefix(PROG).strip()
+        where = f"{command}: " if command else ""
+        self.exit(EXIT_ERROR, f"{PROG}: error: {where}{message} (see --help)\n")
+
+    def parse_args(self, args=None, namespace=None):  # noqa: ANN001, ANN201 - argparse's
+        parsed, extras = self.parse_known_args(args, namespace)
+        if extras:
+            parser = self._chosen(parsed)
+            hints = [hint for hint in map(parser.suggestion, extras) if hint]
+            more = f" ({'; '.join(hints)})" if hints else ""
+            parser.error(f"unrecognized arguments: {' '.join(extras)}{more}")
+        return parsed
+
+    def _chosen(self, parsed: argparse.Namespace) -> OneLineArgumentParser:
+        """The subcommand's parser (where a misplaced option belongs), else this one."""
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                found = action.choices.get(getattr(parsed, action.dest, None) or "")
+                if isinstance(found, OneLineArgumentParser):
+                    return found
+        return self
+
+    def suggestion(self, arg: str) -> str | None:
+        """"did you mean --output?" for an unknown option close to a known one."""
+        import difflib
+
+        if not arg.startswith("-"):
+            return None
+        known = [o for a in self._actions for o in a.option_strings if o.startswith("--")]
+        close = difflib.get_close_matches(arg.split("=", 1)[0], known, n=1, cutoff=0.6)
+        return f"did you mean {close[0]}?" if close else None
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -11,7 +11,7 @@ import json
 import sys
 from pathlib import Path
 
-from urdfinertia.atomic import atomic_write_bytes, write_in_place
+from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.cli.batch import (
     add_batch_arguments,
     finish_single,
@@ -71,6 +71,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     options = options_from_args(args)
+    if _to_terminal(args):
+        raise UrdfInertiaError(
+            "not printing the fixed document on the terminal: write it with -o FILE (or "
+            "--in-place), or redirect it: urdf-inertia fix ROBOT > FILE", file=args.urdf)
     if getattr(args, "repair_only", False):
         from urdfinertia.link.repair_only import repair_file
 
@@ -89,33 +93,29 @@ def run(args: argparse.Namespace) -> int:
         finish_single(args, meshes)
     if args.output is not None and args.output.resolve() == args.urdf.resolve():
         raise OutputError("output is the input file: use --in-place", file=args.output)
-    document, rewritten = result.output, 0
-    if args.output is not None and not args.keep_mesh_paths:
-        from urdfinertia.descriptions.formats import relocate_references
-
-        document, rewritten = relocate_references(document, result.path, args.output)
-    # everything is computed before the first write; the URDF (the file that matters)
-    # is written first, so a failure leaves at most the JSON missing
-    text = None
+    # everything is computed before the first write; the description (the file that
+    # matters) is written first, so a failure leaves at most the JSON missing
+    doc = None
     if args.json is not None:
         from urdfinertia.render.results_json import fix_result_dict
 
         doc = fix_result_dict(result)
-        doc["mesh_references_rewritten"] = rewritten
         doc["exit_code"] = fix_exit_code(len(result.left))
-        text = json.dumps(doc, indent=2)
     from urdfinertia.cli import writeback
 
     # xacro: the sources are edited (--write-back, or --in-place on xacro input)
     plan = writeback.write_back(args, result) if writeback.wants_write_back(args, result) \
         else None
+    rewritten = 0
+    # the library's one saving path: relocated references, atomic write, backup
     if args.in_place and plan is None:
-        if result.changed:
-            write_in_place(args.urdf, document)
+        result.save(in_place=True)
     elif args.output is not None:
-        atomic_write_bytes(args.output, document)
-    if text is not None:
-        atomic_write_bytes(args.json, text.encode())
+        rewritten = result.save(args.output,
+                                keep_mesh_paths=args.keep_mesh_paths).references_rewritten
+    if doc is not None:
+        doc["mesh_references_rewritten"] = rewritten
+        atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
     if not args.quiet:
         from urdfinertia.render.table import fix_console, print_fix_table
 
@@ -126,7 +126,7 @@ def run(args: argparse.Namespace) -> int:
             writeback.print_summary(plan, console)
     _mass_summary(result, args.quiet)  # the robot's mass never changes silently
     if args.output is None and not args.in_place and plan is None:
-        sys.stdout.buffer.write(document)  # a filter: -q only silences the table
+        sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
     for note in result.robot.notes:  # e.g. SDF <include>s, which are not followed
         print(f"urdf-inertia: warning: {result.path}: {note}", file=sys.stderr)
     for line in problem_lines(result):
@@ -141,6 +141,18 @@ def run(args: argparse.Namespace) -> int:
         print(f"urdf-inertia: {len(left)} of {len(result.links)} links left as they were "
               "(exit 1)", file=sys.stderr)
     return max(fix_exit_code(len(left)), engine_regressions(args, result, options))
+
+
+def _to_terminal(args: argparse.Namespace) -> bool:
+    """Whether the fixed document would go to stdout and stdout is a terminal (as a
+    filter, piped or redirected, stdout is where it belongs)."""
+    if args.output is not None or args.in_place or getattr(args, "write_back", False) \
+            or is_batch(args):
+        return False
+    try:
+        return sys.stdout.isatty()
+    except (AttributeError, ValueError):
+        return False
 
 
 def engine_regressions(args: argparse.Namespace, result, options) -> int:
@@ -163,11 +175,10 @@ def engine_regressions(args: argparse.Namespace, result, options) -> int:
 
 
 def _mass_summary(result, quiet: bool) -> None:
-    from rich.console import Console
-
+    from urdfinertia.render.console import output_console
     from urdfinertia.render.decisions import print_mass_summary
 
-    print_mass_summary(result, Console(stderr=True, width=160), quiet=quiet)
+    print_mass_summary(result, output_console(stderr=True), quiet=quiet)
 
 
 __all__ = ["add_arguments", "run", "UrdfInertiaError"]

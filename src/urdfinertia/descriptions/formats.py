@@ -25,9 +25,41 @@ if TYPE_CHECKING:
     from urdfinertia.descriptions.model import Robot
     from urdfinertia.inertia.massprops import MassProperties
 
-#: New inertials for :attr:`DescriptionFormat.patch`: link name -> (mass properties in the
-#: link frame, the link's length scale in m, below which round-off is written as 0).
-NewInertials = Mapping[str, "tuple[MassProperties, float]"]
+#: The values of an inertial: what a writer is told was derived (the others were kept).
+VALUES = frozenset({"mass", "com", "tensor"})
+
+
+@dataclass(frozen=True)
+class NewInertial:
+    """A link's inertial as :attr:`DescriptionFormat.patch` is to write it.
+
+    props : the mass properties in the link frame.
+    size : the link's length scale in m, below which round-off is written as 0.
+    derived : which of "mass", "com" and "tensor" were derived; the others were kept as
+        written, and a writer leaves their text byte for byte where the document allows.
+    """
+
+    props: MassProperties
+    size: float
+    derived: frozenset[str] = VALUES
+
+    @property
+    def partial(self) -> bool:
+        """Some value was kept: only the derived ones are to be written."""
+        return self.derived != VALUES
+
+
+#: New inertials for :attr:`DescriptionFormat.patch`: link name -> a :class:`NewInertial`,
+#: or (mass properties, size) for one whose every value was derived.
+NewInertials = Mapping[str, "NewInertial | tuple[MassProperties, float]"]
+
+
+def new_inertial(value: NewInertial | tuple[MassProperties, float]) -> NewInertial:
+    """``value`` as a :class:`NewInertial` (a pair: every value derived)."""
+    if isinstance(value, NewInertial):
+        return value
+    props, size = value
+    return NewInertial(props, size)
 
 
 @dataclass(frozen=True)
@@ -39,7 +71,9 @@ class DescriptionFormat:
     suffixes : file suffixes, lower case, used when the root element does not decide.
     read : (bytes, path) -> Robot; strict: refuses what ``fix`` cannot compute from.
     read_lenient : (bytes, path) -> Robot; keeps non-finite and odd values for the linters.
-    patch : (bytes, new inertials) -> bytes; changes nothing but the inertial elements.
+    patch : (bytes, new inertials) -> bytes; changes nothing but the inertial elements,
+        and of an inertial with kept values only the derived values' text
+        (:class:`NewInertial`).
     """
 
     name: str
@@ -54,7 +88,8 @@ class DescriptionFormat:
     #: -> URDF), the document that ``read`` reads and ``patch`` edits
     expand: Callable[[bytes, Path], bytes] | None = None
     #: (bytes, source folder, output folder) -> (bytes, references rewritten): relative
-    #: mesh references made to resolve from the output's folder; None: nothing to do
+    #: references (meshes, textures, included files, asset folders) made to resolve from
+    #: the output's folder (:mod:`urdfinertia.descriptions.references`); None: nothing to do
     relocate: Callable[[bytes, Path, Path], tuple[bytes, int]] | None = None
 
 
@@ -117,7 +152,8 @@ def detect_format(data: bytes, path: Path) -> DescriptionFormat:
 
 def relocate_references(data: bytes, path: Path, output: Path) -> tuple[bytes, int]:
     """``data`` (a document read from ``path``) made to work when written at ``output``:
-    relative mesh references rewritten; and how many were."""
+    its format's relative references rewritten (URDF meshes; MJCF compiler folders and
+    includes; SDFormat URIs); and how many were."""
     fmt = detect_format(data, path)
     if fmt.relocate is None:
         return data, 0

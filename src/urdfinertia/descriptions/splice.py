@@ -11,6 +11,7 @@ form with round-off noise cleared (:func:`format_float`, :func:`clean`).
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 
@@ -127,3 +128,69 @@ def next_tag(data: bytes, pos: int) -> re.Match[bytes] | None:
             pos = skip_declaration(data, lt)
         else:
             raise UrdfError(f"cannot locate tag at byte {lt}")
+
+
+#: One attribute of a start tag: leading space, name, value in either quotes.
+_ATTRIBUTE = re.compile(rb"""(\s+)([^\s=/>]+)\s*=\s*(?:"([^"]*)"|'([^']*)')""")
+Edit = tuple[int, int, bytes]
+
+
+def attribute_spans(data: bytes, tag: re.Match[bytes]) -> dict[str, tuple[int, int, int]]:
+    """Attributes of the start tag ``tag`` (a :func:`next_tag` match): name -> (start of
+    the attribute with its leading space, start of the value, end of the value)."""
+    out: dict[str, tuple[int, int, int]] = {}
+    base = tag.start(7)
+    for m in _ATTRIBUTE.finditer(tag.group(7) or b""):
+        group = 3 if m.group(3) is not None else 4
+        out[m.group(2).decode("ascii", "replace")] = (base + m.start(), base + m.start(group),
+                                                      base + m.end(group))
+    return out
+
+
+def attribute_edits(data: bytes, tag: re.Match[bytes], values: Mapping[str, str],
+                    remove: Iterable[str] = ()) -> list[Edit]:
+    """Edits that give start tag ``tag`` these attribute ``values`` and drop ``remove``.
+
+    An existing attribute keeps its place, quotes and spacing: only its value changes. A
+    missing one is added after the last attribute (``name="value"``).
+    """
+    spans = attribute_spans(data, tag)
+    edits: list[Edit] = []
+    added = b""
+    for name, value in values.items():
+        if name in spans:
+            _, start, end = spans[name]
+            if data[start:end].decode("utf-8", "replace") != value:
+                edits.append((start, end, value.encode()))
+        else:
+            added += f' {name}="{value}"'.encode()
+    for name in remove:
+        if name in spans and name not in values:
+            start, _, end = spans[name]
+            edits.append((start, end + 1, b""))  # the closing quote goes too
+    if added:
+        at = tag.end(7) if tag.group(7) else tag.end(6)
+        edits.append((at, at, added))
+    return edits
+
+
+def child_tags(data: bytes, start: int, end: int) -> dict[bytes, re.Match[bytes]]:
+    """The first start tag of each name directly inside the element ``[start, end)``."""
+    found: dict[bytes, re.Match[bytes]] = {}
+    first = next_tag(data, start)
+    if first is None or first.group(8):
+        return found
+    depth = 0
+    pos = first.end()
+    while True:
+        m = next_tag(data, pos)
+        if m is None or m.start() >= end:
+            return found
+        pos = m.end()
+        if m.group(5):
+            depth -= 1
+            continue
+        if depth == 0:
+            found.setdefault(m.group(6), m)
+        if not m.group(8):
+            depth += 1

@@ -118,26 +118,10 @@ def _not_computed(link: Link, found: list[Problem]) -> LinkResult:
                       reason)
 
 
-#: Problem codes of element errors raised while making parts, by a phrase of the message.
-_CODES = (
-    ("not found", "mesh-missing"),
-    ("cannot resolve package", "mesh-unresolved"),
-    ("encloses no volume", "no-volume"),
-    ("no valid solid", "no-volume"),
-    ("unsupported mesh format", "mesh-format"),
-    ("only files are read", "mesh-url"),
-    ("only local files", "mesh-url"),
-    ("not allowed", "mesh-refused"),
-    ("limit", "mesh-too-large"),
-)
-
-
 def problem_code(exc: UrdfInertiaError) -> str:
-    """Short category of an element error, for reports ("mesh-missing", ...)."""
-    for phrase, code in _CODES:
-        if phrase in exc.cause:
-            return code
-    return "mesh-unreadable"
+    """Short category of an element error, for reports ("mesh-missing", ...): the
+    exception's own :attr:`~urdfinertia.errors.UrdfInertiaError.code`."""
+    return exc.code
 
 
 def _warnings(parts: list[Part], result: Assembly) -> tuple[str, ...]:

@@ -96,7 +96,11 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
         refusal = FixResult(path, robot, results, data, data).strict_refusal()
         if refusal is not None:
             raise refusal
-    new = {r.name: (r.assembly.total, r.size) for r in results if r.assembly is not None}
+    from urdfinertia.descriptions.formats import VALUES, NewInertial
+
+    # the writer is told what was derived: kept values keep their bytes
+    new = {r.name: NewInertial(r.assembly.total, r.size, frozenset(r.derived) or VALUES)
+           for r in results if r.assembly is not None}
     try:
         output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:

@@ -133,7 +133,7 @@ def shape_solids(shape: Shape, meshes: MeshSource, urdf_dir: Path) -> list[BodyS
                 unit = solid.mass_properties(1.0)
             except ValueError as exc:
                 raise MeshError(f"mesh {shape.filename!r} gives no valid solid ({solid.method}): "
-                                f"{exc}") from None
+                                f"{exc}", code="no-volume") from None
             out.append(BodySolid(unit, solid.method, notes, solid.provenance,
                                  solid.error_estimate))
         return out

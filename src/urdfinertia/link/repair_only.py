@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from urdfinertia.descriptions.formats import format_of, read_description
+from urdfinertia.descriptions.formats import NewInertial, format_of, read_description
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import Link
 from urdfinertia.errors import UrdfInertiaError
@@ -57,8 +57,9 @@ def repair_file(path: str | Path) -> FixResult:
     """Repair every invalid tensor of the URDF at ``path``; other bytes are unchanged."""
     robot, data = read_description(path, lenient=True)
     results = tuple(repair_link(link) for link in robot.links)
-    # Size only sets the round-off floor for CoM components; the written CoM is exact.
-    new = {r.name: (r.assembly.total, 1.0) for r in results if r.assembly is not None}
+    # Mass and CoM are kept: the writer changes only the tensor's text
+    new = {r.name: NewInertial(r.assembly.total, 1.0, frozenset({"tensor"}))
+           for r in results if r.assembly is not None}
     try:
         output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:

@@ -50,6 +50,7 @@ class Action(StrEnum):
 
 #: Statuses whose inertial the output carries changed.
 CHANGED = frozenset({Status.RECOMPUTED, Status.REPAIRED})
+    from urdfinertia.link.save import SaveReport
 
 
 #: Problem kinds that ``--strict`` refuses ("lenient" readings are warnings even then).
@@ -190,6 +191,23 @@ class FixResult:
     def unverified(self) -> tuple[LinkResult, ...]:
         """Links some of whose geometry could not be read: they were not verified."""
         return tuple(r for r in self.links if r.unverified)
+    def save(self, path: str | Path | None = None, *, in_place: bool = False,
+             backup: bool = True, keep_mesh_paths: bool = False) -> SaveReport:
+        """Write the fixed document, as ``urdf-inertia fix -o PATH`` (or ``--in-place``).
+
+        Relative references are rewritten to resolve from ``path``'s folder, the write is
+        atomic, and ``in_place`` keeps ``<input>.bak`` unless ``backup=False``. See
+        :func:`urdfinertia.link.save.save_result` for the parameters and errors.
+
+        Returns
+        -------
+        SaveReport
+            The file written, whether it was, and the references rewritten.
+        """
+        from urdfinertia.link.save import save_result
+
+        return save_result(self, path, in_place=in_place, backup=backup,
+                           keep_mesh_paths=keep_mesh_paths)
 
     @property
     def left(self) -> tuple[LinkResult, ...]:

@@ -102,7 +102,7 @@ def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
             candidates.append(Solid(volume, first, second, body.method, body.error_estimate,
                                     body.notes, body.provenance))
     if not candidates:
-        raise MeshError("mesh encloses no volume")
+        raise MeshError("mesh encloses no volume", code="no-volume")
     notes = repaired.notes
     if len(candidates) < len(repaired.bodies):
         notes += (f"dropped {len(repaired.bodies) - len(candidates)} bodies with no net "

@@ -45,13 +45,18 @@ def _fix_columns(width: int | None) -> list[str]:
 
 
 def _notes(r: LinkResult) -> str:
-    """Decision, kept/derived, mass source, error bar, then problems and warnings."""
+    """Decision, kept/derived, mass source, error bar, then problems and warnings; each
+    note once. The error bar is its band only ("±79 %"): its basis is in ``--json`` and
+    ``explain``."""
+    full_bar = str(r.error_bar) if r.error_bar is not None else None
+    short_bar = f"±{100 * r.error_bar.band:.0f} %" if r.error_bar is not None else None
+    decided = [short_bar if n == full_bar else n for n in link_notes(r, warnings=False)]
     dropped = [f"{p.element} dropped (line {p.line}): {p.cause}" for p in r.problems
                if p.kind == "dropped" and p.element]
     ignored = [f"{p.element or 'value'} ignored (line {p.line}): {p.cause}"
                for p in r.problems if p.kind == "ignored"]
-    return "; ".join(x for x in (*link_notes(r, warnings=False), *dropped, *ignored,
-                                 *collapse_notes(r.warnings)) if x)
+    notes = (*decided, *dropped, *ignored, *collapse_notes(r.warnings))
+    return "; ".join(dict.fromkeys(x for x in notes if x))
 
 
 def collapse_notes(notes: Sequence[str]) -> list[str]:
@@ -79,7 +84,10 @@ def collapse_notes(notes: Sequence[str]) -> list[str]:
 
 
 def fix_table(results: Sequence[LinkResult], title: str, width: int | None = None) -> Table:
-    table = Table(title=title, show_lines=False)
+    from rich.text import Text
+
+    # a long path folds rather than widening the output
+    table = Table(title=Text(title, overflow="fold"), show_lines=False)
     columns = _fix_columns(width)
     for col in columns:
         table.add_column(col, overflow="fold")
@@ -115,10 +123,7 @@ def fix_table(results: Sequence[LinkResult], title: str, width: int | None = Non
 
 
 def print_fix_table(results: Sequence[LinkResult], title: str, console: Console) -> None:
-    from urdfinertia.render.console import PLAIN_WIDTH
-
-    width = None if console.width >= PLAIN_WIDTH else console.width
-    console.print(fix_table(results, title, width))
+    console.print(fix_table(results, title, console.width))
     from_spec = [r for r in results if r.geometry == "spec" and r.assembly is not None]
     if from_spec:
         console.print(element_table(from_spec, "per-element contributions (links in the spec)"))
@@ -177,7 +182,7 @@ def breakdown_table(b: Breakdown) -> Table:
                           + "; ".join(_vec(a, 1.0) for a in b.axes.T))
     for col in ("element / part", "mass kg", "CoM in link frame m", "I about own CoM (I_sp)",
                 "I about link CoM (I_p,s)", "share % (λ1 λ2 λ3)", "how"):
-        table.add_column(col, overflow="fold", no_wrap=col != "how")
+        table.add_column(col, overflow="fold")  # wraps at spaces, folds long names
     for e in b.elements:
         c = e.element
         table.add_row(f"[bold]{c.name}[/bold]", _g(c.mass), _vec(c.com, size),

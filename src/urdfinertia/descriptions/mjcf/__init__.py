@@ -28,7 +28,13 @@ def _patch(data, new):  # noqa: ANN001, ANN202
     return patch_inertials(data, new)
 
 
+def _relocate(data, source_dir, output_dir):  # noqa: ANN001, ANN202
+    from urdfinertia.descriptions.mjcf.relocate import relocate_mjcf_refs
+
+    return relocate_mjcf_refs(data, source_dir, output_dir)
+
+
 register_format(DescriptionFormat(
     name="mjcf", roots=("mujoco",), suffixes=(".xml", ".mjcf"),
-    read=_read, read_lenient=_read_lenient, patch=_patch,
+    read=_read, read_lenient=_read_lenient, patch=_patch, relocate=_relocate,
 ))

@@ -16,11 +16,14 @@ read back exactly, so ``fix`` on its own output changes nothing.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 
+from urdfinertia.descriptions.formats import NewInertial, NewInertials, new_inertial
 from urdfinertia.descriptions.splice import (
     NAME_ATTR,
+    Edit,
+    attribute_edits,
+    attribute_spans,
     attribute_text,
     clean,
     format_float,
@@ -110,31 +113,82 @@ def inertial_text(props: MassProperties, size: float) -> bytes:
     com, i = clean(props, size)
     f = format_float
     pos = f"{f(com[0])} {f(com[1])} {f(com[2])}"
+    key, value = _tensor_attribute(i)
+    return f'<inertial pos="{pos}" mass="{f(props.mass)}" {key}="{value}"/>'.encode()
+
+
+#: Attributes that orient the inertia frame (one at most is allowed).
+ORIENTATION_ATTRS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
+
+
+def kept_value_edits(data: bytes, start: int, entry: NewInertial) -> list[Edit]:
+    """Edits of the ``<inertial>`` start tag at ``start`` that write only derived values.
+
+    Kept values keep their bytes: a derived mass changes ``mass``, a derived CoM ``pos``,
+    a derived tensor ``diaginertia`` or ``fullinertia`` (the old one's place; the other
+    is dropped) and drops the frame's orientation (the new tensor is along the body's
+    axes).
+    """
+    tag = next_tag(data, start)
+    if tag is None:
+        return []
+    com, i = clean(entry.props, entry.size)
+    f = format_float
+    values: dict[str, str] = {}
+    remove: list[str] = []
+    if "mass" in entry.derived:
+        values["mass"] = f(entry.props.mass)
+    if "com" in entry.derived:
+        values["pos"] = f"{f(com[0])} {f(com[1])} {f(com[2])}"
+    if "tensor" in entry.derived:
+        key, value = _tensor_attribute(i)
+        values[key] = value
+        remove += [a for a in ("diaginertia", "fullinertia") if a != key]
+        remove += ORIENTATION_ATTRS
+        spans = attribute_spans(data, tag)
+        other = next((a for a in ("diaginertia", "fullinertia") if a != key and a in spans),
+                     None)
+        if other is not None and key not in spans:
+            # the new tensor takes the old one's place: name and value both change
+            at, _, end = spans[other]
+            rest = attribute_edits(data, tag, {k: v for k, v in values.items() if k != key},
+                                   [a for a in remove if a != other])
+            return [*rest, (at, end + 1, f' {key}="{value}"'.encode())]
+    return attribute_edits(data, tag, values, remove)
+
+
+def _tensor_attribute(i) -> tuple[str, str]:  # noqa: ANN001 - a (3, 3) array
+    f = format_float
     if i[0, 1] == 0 and i[0, 2] == 0 and i[1, 2] == 0:
-        tensor = f'diaginertia="{f(i[0, 0])} {f(i[1, 1])} {f(i[2, 2])}"'
-    else:
-        tensor = (f'fullinertia="{f(i[0, 0])} {f(i[1, 1])} {f(i[2, 2])} {f(i[0, 1])} '
-                  f'{f(i[0, 2])} {f(i[1, 2])}"')
-    return f'<inertial pos="{pos}" mass="{f(props.mass)}" {tensor}/>'.encode()
+        return "diaginertia", f"{f(i[0, 0])} {f(i[1, 1])} {f(i[2, 2])}"
+    return "fullinertia", (f"{f(i[0, 0])} {f(i[1, 1])} {f(i[2, 2])} {f(i[0, 1])} "
+                           f"{f(i[0, 2])} {f(i[1, 2])}")
 
 
-def patch_inertials(data: bytes, new: Mapping[str, tuple[MassProperties, float]]) -> bytes:
+def patch_inertials(data: bytes, new: NewInertials) -> bytes:
     """Replace (or add) the ``<inertial>`` of each body named in ``new``.
 
-    A name not found in ``data`` belongs to a body of an included file when the document
-    has ``<include>`` elements (the reader has said so on the link): nothing is written
-    for it. Otherwise it is an error.
+    When some values were kept (:class:`~urdfinertia.descriptions.formats.NewInertial`)
+    and the body has an ``<inertial>``, only the derived attributes change
+    (:func:`kept_value_edits`). A name not found in ``data`` belongs to a body of an
+    included file when the document has ``<include>`` elements (the reader has said so
+    on the link): nothing is written for it. Otherwise it is an error.
     """
     spans = scan_bodies(data)
     newline = b"\r\n" if b"\r\n" in data else b"\n"
     has_includes = b"<include" in data
     edits: list[tuple[int, int, bytes]] = []
-    for name, (props, size) in new.items():
+    for name, value in new.items():
+        entry = new_inertial(value)
+        props, size = entry.props, entry.size
         span = spans.get(name)
         if span is None:
             if has_includes:
                 continue
             raise UrdfError(f"cannot locate <body name='{name}'> in the text", link=name)
+        if entry.partial and span.inertial is not None:
+            edits.extend(kept_value_edits(data, span.inertial[0], entry))
+            continue
         text = inertial_text(props, size)
         if span.inertial is not None:
             start, end = span.inertial

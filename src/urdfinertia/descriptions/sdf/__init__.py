@@ -35,7 +35,13 @@ def _patch(data: bytes, new: NewInertials) -> bytes:
     return patch_inertials(data, new)
 
 
+def _relocate(data: bytes, source_dir: Path, output_dir: Path) -> tuple[bytes, int]:
+    from urdfinertia.descriptions.sdf.relocate import relocate_sdf_refs
+
+    return relocate_sdf_refs(data, source_dir, output_dir)
+
+
 register_format(DescriptionFormat(
     name="sdf", roots=("sdf",), suffixes=(".sdf", ".world"),
-    read=_read, read_lenient=_read_lenient, patch=_patch,
+    read=_read, read_lenient=_read_lenient, patch=_patch, relocate=_relocate,
 ))

@@ -14,11 +14,12 @@ an ``<inertial>`` gets one as its first child, indented like its siblings.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from urdfinertia.descriptions.formats import NewInertial, NewInertials, new_inertial
 from urdfinertia.descriptions.splice import (
     NAME_ATTR,
+    Edit,
     attribute_text,
     clean,
     format_float,
@@ -193,16 +194,98 @@ def _whole(props: MassProperties, size: float, indent: bytes, step: bytes,
     return (newline + indent).join(lines)
 
 
-def patch_inertials(data: bytes, new: Mapping[str, tuple[MassProperties, float]]) -> bytes:
-    """Replace (or add) the inertial of each link named in ``new`` (names as :mod:`.read`)."""
+_TOKEN = re.compile(rb"\S+")
+_INERTIA_KEYS = (b"ixx", b"ixy", b"ixz", b"iyy", b"iyz", b"izz")
+
+
+def _text_tokens(data: bytes, node: _Node) -> list[tuple[int, int]] | None:
+    """Spans of the whitespace-separated words of a text-only element (None: not one)."""
+    if node.self_closing or node.children or node.end <= 0:
+        return None
+    close = data.rfind(b"</", node.start_end, node.end)
+    if close < 0 or b"<" in data[node.start_end:close] or b"&" in data[node.start_end:close]:
+        return None
+    return [(node.start_end + m.start(), node.start_end + m.end())
+            for m in _TOKEN.finditer(data[node.start_end:close])]
+
+
+def kept_value_edits(data: bytes, link: _Node, entry: NewInertial) -> list[Edit] | None:
+    """Edits of the link's ``<inertial>`` that write only the derived values, the kept
+    ones' text untouched; None when the element is not plain enough (``auto``, a
+    ``relative_to`` or ``rotation_format`` pose, a missing value): it is then rewritten.
+
+    A derived mass changes ``<mass>``'s text, a derived CoM the first three words of
+    ``<pose>``, a derived tensor the six ``<inertia>`` values and sets a rotated pose's
+    angles to 0 (the new tensor is along the link's axes).
+    """
+    inertials = link.kids(b"inertial")
+    if not inertials or inertials[0].self_closing or _AUTO_ATTR.search(inertials[0].attrs):
+        return None
+    inertial = inertials[0]
+    com, i = clean(entry.props, entry.size)
+    f = format_float
+    edits: list[Edit] = []
+    poses = inertial.kids(b"pose")
+    pose = None
+    if poses:
+        if b"relative_to" in poses[0].attrs or b"rotation_format" in poses[0].attrs:
+            return None
+        pose = _text_tokens(data, poses[0])
+        if pose is None or len(pose) != 6:
+            return None
+    if "mass" in entry.derived:
+        masses = inertial.kids(b"mass")
+        words = _text_tokens(data, masses[0]) if masses else None
+        if not words or len(words) != 1:
+            return None
+        edits.append((*words[0], f(entry.props.mass).encode()))
+    if "com" in entry.derived:
+        if pose is None:
+            return None
+        edits += [(*pose[k], f(com[k]).encode()) for k in range(3)]
+    if "tensor" in entry.derived:
+        tensors = inertial.kids(b"inertia")
+        if not tensors:
+            return None
+        values = dict(zip(_INERTIA_KEYS, (i[0, 0], i[0, 1], i[0, 2], i[1, 1], i[1, 2],
+                                          i[2, 2]), strict=True))
+        for key, value in values.items():
+            nodes = tensors[0].kids(key)
+            words = _text_tokens(data, nodes[0]) if nodes else None
+            if not words or len(words) != 1:
+                return None
+            edits.append((*words[0], f(value).encode()))
+        if pose is not None:
+            for start, end in pose[3:]:
+                try:
+                    rotated = float(data[start:end]) != 0.0
+                except ValueError:
+                    return None
+                if rotated:
+                    edits.append((start, end, b"0"))
+    return edits
+
+
+def patch_inertials(data: bytes, new: NewInertials) -> bytes:
+    """Replace (or add) the inertial of each link named in ``new`` (names as :mod:`.read`).
+
+    When some values were kept (:class:`~urdfinertia.descriptions.formats.NewInertial`),
+    only the derived ones are written into the existing element where it is plain enough
+    (:func:`kept_value_edits`).
+    """
     links = link_nodes(data)
     newline = b"\r\n" if b"\r\n" in data else b"\n"
     edits: list[tuple[int, int, bytes]] = []
-    for name, (props, size) in new.items():
+    for name, value in new.items():
+        entry = new_inertial(value)
         link = links.get(name)
         if link is None:
             raise UrdfError(f"cannot locate <link name='{name}'> in the text", link=name)
-        edits.extend(_edits_for(data, link, props, size, newline))
+        partial = kept_value_edits(data, link, entry) if entry.partial else None
+        if partial is not None:
+            edits.extend(partial)
+            continue
+        edits.extend(_edits_for(data, link, entry.props, entry.size, newline))
     out = bytearray()
     pos = 0
     for start, end, text in sorted(edits, key=lambda e: (e[0], e[1])):

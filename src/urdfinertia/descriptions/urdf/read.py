@@ -147,12 +147,10 @@ class _Ctx:
         self.problems = problems
 
     def error(self, cause: str, el: etree._Element, code: str = "bad-number") -> UrdfError:
-        exc = UrdfError(cause, file=self.path, line=el.sourceline, link=self.link)
-        exc.problem_code = code  # type: ignore[attr-defined]
-        return exc
+        return UrdfError(cause, file=self.path, line=el.sourceline, link=self.link, code=code)
 
     def note(self, exc: UrdfError, element: str | None, kind: str) -> None:
-        self.problems.append(Problem(getattr(exc, "problem_code", "bad-number"), exc.cause,
+        self.problems.append(Problem(exc.code, exc.cause,
                                      line=exc.line, link=self.link, element=element,
                                      kind=kind))
 

@@ -12,9 +12,14 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from urdfinertia.descriptions.formats import NewInertial, NewInertials, new_inertial
 from urdfinertia.descriptions.splice import (
     NAME_ATTR,
+    Edit,
+    attribute_edits,
+    attribute_spans,
     attribute_text,
+    child_tags,
     clean,
     format_float,
     line_indent,
@@ -152,23 +157,76 @@ def _step(data: bytes, span: LinkSpan) -> bytes:
     return b"  "
 
 
-def patch_inertials(data: bytes, new: Mapping[str, tuple[MassProperties, float]]) -> bytes:
+def kept_value_edits(data: bytes, span: tuple[int, int], entry: NewInertial,
+                     ) -> list[Edit] | None:
+    """Edits of an existing ``<inertial>`` that write only the derived values.
+
+    Kept values keep their bytes: a derived mass changes ``<mass value>``, a derived CoM
+    ``<origin xyz>``, a derived tensor the six ``<inertia>`` attributes (and a rotated
+    ``<origin rpy>`` becomes "0 0 0", the new tensor being along the link's axes). None
+    when an element to change is missing: the whole element is then written.
+    """
+    start, end = span
+    if data[start:end].rstrip().endswith(b"/>"):
+        return None
+    tags = child_tags(data, start, end)
+    com, i = clean(entry.props, entry.size)
+    f = format_float
+    edits: list[Edit] = []
+    origin = tags.get(b"origin")
+    if "mass" in entry.derived:
+        if b"mass" not in tags:
+            return None
+        edits += attribute_edits(data, tags[b"mass"], {"value": f(entry.props.mass)})
+    if "com" in entry.derived:
+        if origin is None:
+            return None
+        edits += attribute_edits(data, origin, {"xyz": f"{f(com[0])} {f(com[1])} {f(com[2])}"})
+    if "tensor" in entry.derived:
+        if b"inertia" not in tags:
+            return None
+        edits += attribute_edits(data, tags[b"inertia"], {
+            "ixx": f(i[0, 0]), "ixy": f(i[0, 1]), "ixz": f(i[0, 2]), "iyy": f(i[1, 1]),
+            "iyz": f(i[1, 2]), "izz": f(i[2, 2])})
+        rpy = attribute_spans(data, origin).get("rpy") if origin is not None else None
+        if origin is not None and rpy is not None and not _zero(data[rpy[1]:rpy[2]]):
+            edits += attribute_edits(data, origin, {"rpy": "0 0 0"})
+    return edits
+
+
+def _zero(text: bytes) -> bool:
+    try:
+        return all(float(t) == 0.0 for t in text.split())
+    except ValueError:
+        return False
+
+
+def patch_inertials(data: bytes, new: NewInertials) -> bytes:
     """Replace (or add) the ``<inertial>`` of each link named in ``new``.
 
     Parameters
     ----------
     data : bytes
         The original document.
-    new : mapping of link name to (mass properties in the link frame, link size in m)
-        The size sets the scale below which CoM components count as round-off.
+    new : mapping of link name to :class:`~urdfinertia.descriptions.formats.NewInertial`
+        The mass properties in the link frame, the size below which CoM components count
+        as round-off, and which values were derived: when some were kept, only the
+        derived ones are written into the existing element (:func:`kept_value_edits`).
     """
     spans = scan_links(data)
     newline = b"\r\n" if b"\r\n" in data else b"\n"
     edits: list[tuple[int, int, bytes]] = []
-    for name, (props, size) in new.items():
+    for name, value in new.items():
+        entry = new_inertial(value)
+        props, size = entry.props, entry.size
         span = spans.get(name)
         if span is None:
             raise UrdfError(f"cannot locate <link name='{name}'> in the text", link=name)
+        if entry.partial and span.inertial is not None:
+            partial = kept_value_edits(data, span.inertial, entry)
+            if partial is not None:
+                edits.extend(partial)
+                continue
         step = _step(data, span)
         if span.self_closing:
             # <link name="x"/> becomes <link name="x"> + inertial + </link>

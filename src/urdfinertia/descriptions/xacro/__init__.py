@@ -116,7 +116,15 @@ def _patch(data, new):  # noqa: ANN001, ANN202
     return patch_inertials(data, new)
 
 
+def _relocate(data, source_dir, output_dir):  # noqa: ANN001, ANN202
+    """What ``fix`` writes of a xacro file is its expanded URDF: URDF's mesh references."""
+    from urdfinertia.descriptions.urdf.mesh_refs import relocate_mesh_refs
+
+    return relocate_mesh_refs(data, source_dir, output_dir)
+
+
 register_format(DescriptionFormat(
     name="xacro", roots=("robot",), suffixes=(".xacro",),
     read=_read, read_lenient=_read_lenient, patch=_patch, claims=claims, expand=_expand,
+    relocate=_relocate,
 ))

@@ -70,7 +70,7 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
     suffix = path.suffix.lower()
     if suffix not in SUPPORTED_SUFFIXES:
         raise MeshError(f"unsupported mesh format '{suffix}' ({path}); "
-                        f"supported: {', '.join(SUPPORTED_SUFFIXES)}")
+                        f"supported: {', '.join(SUPPORTED_SUFFIXES)}", code="mesh-format")
     data = _checked_bytes(path, suffix, max_faces)
     pieces = _native_pieces(path, suffix, data, max_faces) if data is not None else None
     loaded = _load_scene(path, suffix) if pieces is None else None
@@ -125,7 +125,8 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
                 stream.seek(0)
                 cause = _collada_cause(io.BytesIO(data) if data is not None else stream)
                 if cause:
-                    raise MeshError(f"cannot read mesh {path}: {cause}")
+                    code = "mesh-unreadable" if cause == ZIPPED_COLLADA else "mesh-refused"
+                    raise MeshError(f"cannot read mesh {path}: {cause}", code=code)
     except OSError as exc:
         raise MeshError(f"cannot read mesh {path}: {exc.strerror or exc}") from None
     return data
@@ -134,7 +135,7 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
 def _too_large(path: Path, size: int, limit: int, max_faces: int) -> MeshError:
     return MeshError(f"mesh {path} is {size} bytes, more than the limit {limit} bytes "
                      f"({BYTES_PER_FACE} bytes per face of --max-faces {max_faces}; "
-                     "raise it with --max-faces)")
+                     "raise it with --max-faces)", code="mesh-too-large")
 
 
 def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
@@ -179,7 +180,7 @@ _NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
 
 def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
     return MeshError(f"mesh {path} has {faces} faces, more than the limit "
-                     f"{max_faces} (raise it with --max-faces)")
+                     f"{max_faces} (raise it with --max-faces)", code="mesh-too-large")
 
 
 def _load_scene(path: Path, suffix: str) -> Any:
@@ -288,11 +289,14 @@ def _sum_pattern(stream: BinaryIO, pattern: re.Pattern[bytes], width: int,
         carry = window[cut:]
 
 
+ZIPPED_COLLADA = "zipped COLLADA is not supported"
+
+
 def _collada_cause(stream: BinaryIO) -> str | None:
     head = stream.read(4)
     stream.seek(0)
     if head.startswith(b"PK"):
-        return "zipped COLLADA is not supported"
+        return ZIPPED_COLLADA
     return hostile_xml_stream_cause(stream, _CHUNK)
 
 

@@ -126,7 +126,7 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> Repaired
     used = vertices[used_vertices(len(vertices), faces)]
     size = float(np.linalg.norm(used.max(axis=0) - used.min(axis=0)))
     if not size > 0:
-        raise MeshError("mesh is a single point: it encloses no volume")
+        raise MeshError("mesh is a single point: it encloses no volume", code="no-volume")
     n_in = len(used)
     vertices, faces = weld_vertices(vertices, faces, WELD_RTOL * size)
     if len(vertices) < n_in:
@@ -141,7 +141,8 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> Repaired
     if cancelled:
         notes.append(f"removed {cancelled} pairs of coincident opposite triangles")
     if len(faces) == 0:
-        raise MeshError("mesh has no non-degenerate triangles: it encloses no volume")
+        raise MeshError("mesh has no non-degenerate triangles: it encloses no volume",
+                        code="no-volume")
     timer = timer if timer is not None else StageTimes()
     welded = "welded" if notes else "closed as given"
     stitch = stitch_seams(vertices, faces, size)
@@ -200,7 +201,7 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str], timer: 
         notes.append(f"ignored {flat} pieces enclosing no volume (flat or stray triangles)")
     if not shells:
         raise MeshError("mesh encloses no volume (flat sheet, single triangle or "
-                        "degenerate surface)")
+                        "degenerate surface)", code="no-volume")
     groups, loose = _group(shells)
     if loose:
         notes.append(f"turned {loose} inverted shells that lie in no other body outward")

@@ -1,0 +1,146 @@
+"""Save a fixed description: the one path from a :class:`FixResult` to a file on disk.
+
+``urdf-inertia fix -o`` / ``--in-place`` and :meth:`FixResult.save` both come here, so the
+library writes the same bytes as the command line: the patched document with its relative
+references (meshes, textures, included files, asset folders) made to resolve from the
+output's folder, written atomically (:mod:`urdfinertia.atomic`), with a backup of the
+input when it is replaced.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from urdfinertia.atomic import atomic_write_bytes, write_in_place
+from urdfinertia.errors import OutputError
+
+if TYPE_CHECKING:
+    from urdfinertia.link.results import FixResult
+
+#: Suffix of the copy kept when a file is replaced in place.
+BACKUP_SUFFIX = ".bak"
+
+
+@dataclass(frozen=True)
+class SaveReport:
+    """What :func:`save_result` did.
+
+    Attributes
+    ----------
+    path : Path
+        The file written (a symbolic link's target), or that would have been.
+    written : bool
+        False when nothing needed writing (in place, and nothing changed).
+    references_rewritten : int
+        Relative references rewritten to resolve from the output's folder.
+    backup : Path or None
+        The copy of the replaced input (in place with ``backup=True``).
+    """
+
+    path: Path
+    written: bool
+    references_rewritten: int = 0
+    backup: Path | None = None
+
+
+def output_bytes(result: FixResult, path: str | Path, *, keep_mesh_paths: bool = False,
+                 ) -> tuple[bytes, int]:
+    """The bytes :func:`save_result` writes at ``path``, and the references it rewrote.
+
+    Parameters
+    ----------
+    result : FixResult
+        A fixed description.
+    path : str or Path
+        Where the document is to be written.
+    keep_mesh_paths : bool
+        Keep relative references as written even when ``path`` is in another folder.
+
+    Returns
+    -------
+    document : bytes
+        ``result.output`` with its relative references relocated (see
+        :func:`urdfinertia.descriptions.formats.relocate_references`).
+    rewritten : int
+        How many references were rewritten.
+    """
+    if keep_mesh_paths:
+        return result.output, 0
+    from urdfinertia.descriptions.formats import relocate_references
+
+    return relocate_references(result.output, result.path, Path(path))
+
+
+def save_result(result: FixResult, path: str | Path | None = None, *, in_place: bool = False,
+                backup: bool = True, keep_mesh_paths: bool = False) -> SaveReport:
+    """Write a fixed description to ``path``, or over its input.
+
+    Parameters
+    ----------
+    result : FixResult
+        What :func:`urdfinertia.fix` (or ``fix_file``) returned.
+    path : str or Path, optional
+        The output file. Its folder must exist. Relative references of the document are
+        rewritten to name the same files from there (unless ``keep_mesh_paths``).
+    in_place : bool
+        Replace the input file (``result.path``) instead; ``path`` must then be omitted
+        or name the input. Nothing is written when the document did not change.
+    backup : bool
+        With ``in_place``: first keep a complete copy of the input as
+        ``<input>.bak`` (written atomically, an older one replaced).
+    keep_mesh_paths : bool
+        Write relative references as they are, even in another folder.
+
+    Returns
+    -------
+    SaveReport
+        The file written, whether it was, the references rewritten and the backup.
+
+    Raises
+    ------
+    OutputError
+        The file cannot be written; ``path`` names the input without ``in_place``; neither
+        ``path`` nor ``in_place`` is given; or ``in_place`` is asked for a xacro input
+        (its sources are edited by write-back, not replaced by the expansion).
+
+    Notes
+    -----
+    The write is atomic: the new bytes go to a temporary file in the target's folder,
+    which then replaces the target. A failure leaves the target as it was.
+
+    Examples
+    --------
+    >>> result = urdfinertia.fix("robot.urdf")            # doctest: +SKIP
+    >>> result.save("out/robot.urdf").references_rewritten  # doctest: +SKIP
+    12
+    """
+    source = Path(result.path)
+    if in_place:
+        if path is not None and not _same_file(Path(path), source):
+            raise OutputError("in_place writes the input file; pass no other path",
+                              file=path)
+        if result.robot.format == "xacro":
+            raise OutputError("a xacro file is not replaced by its expansion: write the "
+                              "fixed values back into its sources (write-back) or save "
+                              "the URDF elsewhere", file=source)
+        if not result.changed:
+            return SaveReport(source, False)
+        if backup:
+            written = write_in_place(source, result.output, BACKUP_SUFFIX)
+            return SaveReport(written, True, 0, written.with_name(written.name
+                                                                   + BACKUP_SUFFIX))
+        return SaveReport(atomic_write_bytes(source, result.output), True)
+    if path is None:
+        raise OutputError("nothing to save to: pass a path or in_place=True", file=source)
+    path = Path(path)
+    if _same_file(path, source):
+        raise OutputError("output is the input file: use in-place saving", file=path)
+    document, rewritten = output_bytes(result, path, keep_mesh_paths=keep_mesh_paths)
+    return SaveReport(atomic_write_bytes(path, document), True, rewritten)
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    return os.path.realpath(a) == os.path.realpath(b)
