@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from urdfinertia.link.assemble import Assembly
     from urdfinertia.link.errorbar import ErrorBar
     from urdfinertia.link.findings import Finding
+    from urdfinertia.link.save import SaveReport
 
 
 class Status(StrEnum):
@@ -50,7 +51,6 @@ class Action(StrEnum):
 
 #: Statuses whose inertial the output carries changed.
 CHANGED = frozenset({Status.RECOMPUTED, Status.REPAIRED})
-    from urdfinertia.link.save import SaveReport
 
 
 #: Problem kinds that ``--strict`` refuses ("lenient" readings are warnings even then).
