@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.inertia.massprops import MassProperties
@@ -220,7 +220,7 @@ def compare_with_geometry(path: str | Path, options: FixOptions,
     Links with neither an inertial nor geometry are left out.
     """
     # B is the geometry's value for every link; the default policy's decision goes alongside
-    meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    meshes = mesh_library(options.package_dirs, options.max_faces)
     if fix_result is None:
         robot, data = read_description(path, lenient=True)
         fix_result = fix_robot(robot, data, every_link(options), meshes)

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.model import Robot
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
@@ -133,7 +133,7 @@ def explain_link(robot: Robot, name: str, options: FixOptions,
     if options.spec is not None:
         options.spec.check_links(robot)
     if meshes is None:
-        meshes = MeshLibrary(options.package_dirs, options.max_faces)
+        meshes = mesh_library(options.package_dirs, options.max_faces)
     link = robot.link(name)
     try:
         result = compute_link(link, options, meshes, path.parent)

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import copy
+import weakref
 from collections.abc import Mapping
 from pathlib import Path
 
-from urdfinertia.cache.store import SolidsCache, cacheable
+from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache, cacheable
 from urdfinertia.descriptions.paths import RealPaths, resolve_mesh_path
 from urdfinertia.errors import MeshError
 from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
@@ -166,11 +167,32 @@ class MeshLibrary:
         return found
 
     def failed_for_bytes_only(self, trace: list[tuple[str, str, str]]) -> bool:
-        """True when no mesh of ``trace`` (see :attr:`trace`) failed for a reason other
-        than its bytes (:func:`cacheable`): a file error then depends on its inputs alone."""
+        """True when every mesh of ``trace`` (see :attr:`trace`) has an outcome that
+        depends on its bytes alone (:func:`cacheable`: no failure for another reason, no
+        repair cut short by the time budget): a file's result then depends on its inputs
+        alone."""
         for _, _, path in trace:
             if path:
                 found = self._memo.get(Path(path))
-                if isinstance(found, Exception) and not cacheable(found, Path(path)):
+                if found is not None and not cacheable(found, Path(path)):
                     return False
         return True
+
+
+def mesh_library(package_dirs: Mapping[str, Path] | None = None,
+                 max_faces: int = DEFAULT_MAX_FACES, *, use_cache: bool = True,
+                 cache_dir: Path | None = None,
+                 cache_max_bytes: int = DEFAULT_MAX_BYTES) -> MeshLibrary:
+    """The mesh library of a command: every command builds its library here.
+
+    It reads and fills the persistent mesh cache (``cache_dir``, default
+    :func:`~urdfinertia.cache.store.default_cache_dir`) unless ``use_cache`` is False, so
+    ``check``, ``compare``, ``explain`` and ``report`` reuse what ``fix`` (or an earlier
+    run of any of them) computed. The cache is kept within ``cache_max_bytes`` when the
+    library is discarded (least recently used entries go first).
+    """
+    cache = SolidsCache(cache_dir, cache_max_bytes) if use_cache else None
+    library = MeshLibrary(package_dirs, max_faces, cache)
+    if cache is not None:
+        weakref.finalize(library, cache.prune)
+    return library

@@ -32,7 +32,7 @@ from urdfinertia.atomic import replace_file
 from urdfinertia.cache.digests import FileDigests, content_digest, file_digest
 from urdfinertia.cache.version import code_digest
 from urdfinertia.errors import MeshError
-from urdfinertia.mesh.limits import max_mesh_bytes
+from urdfinertia.mesh.limits import OVER_BUDGET_NOTE, max_mesh_bytes
 
 if TYPE_CHECKING:
     import numpy as np
@@ -71,11 +71,17 @@ def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
 
 
 def cacheable(outcome: object, path: Path) -> bool:
-    """Solids, or a repair error that depends on the bytes only (names no path)."""
+    """Solids, or a repair error that depends on the bytes only (names no path).
+
+    Solids repaired past the time budget (fans only) are not: another run may have the
+    time for the refined caps.
+    """
     if isinstance(outcome, MeshError):
         return (outcome.file is None and str(path) not in outcome.cause
                 and path.name not in outcome.cause)
-    return not isinstance(outcome, Exception)
+    notes = getattr(outcome, "notes", ())
+    return (not isinstance(outcome, Exception)
+            and not any(n.startswith(OVER_BUDGET_NOTE) for n in notes))
 
 
 def default_cache_dir() -> Path:

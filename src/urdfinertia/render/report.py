@@ -19,7 +19,7 @@ import numpy as np
 from urdfinertia import __version__
 from urdfinertia.analysis.check import Finding, check_robot
 from urdfinertia.analysis.compare import LinkComparison, compare_with_geometry, summary
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.fix import fix_robot
@@ -79,7 +79,7 @@ def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
     inertial shows up as invalid in the report instead of stopping it.
     """
     robot, data = read_description(path, lenient=True)
-    meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    meshes = mesh_library(options.package_dirs, options.max_faces)
     fix = fix_robot(robot, data, every_link(options), meshes)  # the geometry's view
     comparisons = compare_with_geometry(path, options, fix_result=fix)
     findings = check_robot(robot, meshes=meshes, options=options)
