@@ -7,6 +7,8 @@ import weakref
 from collections.abc import Mapping
 from pathlib import Path
 
+import numpy as np
+
 from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache, cacheable
 from urdfinertia.descriptions.paths import RealPaths, resolve_mesh_path
 from urdfinertia.errors import MeshError
@@ -63,6 +65,22 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
     return found
 
 
+def hull_points(points: np.ndarray) -> np.ndarray:
+    """The vertices of the convex hull of ``points`` (n, 3), in input order; all of
+    ``points`` when they span no volume (flat, collinear) or are few."""
+    points = np.asarray(points, dtype=np.float64)
+    if len(points) <= 64:
+        return points
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        # the extreme points of every direction are hull vertices: with no merging of
+        # nearly coplanar facets ("Q" options off), none of them is dropped
+        return points[np.sort(ConvexHull(points, qhull_options="Qt").vertices)]
+    except (QhullError, ValueError):
+        return points
+
+
 def fresh(exc: Exception) -> Exception:
     """A new exception equal to ``exc`` with its own attributes (context is added per use).
 
@@ -96,6 +114,7 @@ class MeshLibrary:
         self.cache = cache
         self.timer = timer if timer is not None else StageTimes()
         self._memo: dict[Path, MeshSolids | Exception] = {}
+        self._points: dict[Path, np.ndarray] = {}
         self._resolved: dict[tuple[str, Path], Path | MeshError] = {}
         self._records: dict[tuple[str, Path], tuple[str, str, str]] = {}
         self._real_path = RealPaths()
@@ -164,6 +183,39 @@ class MeshLibrary:
                 error.cause = f"mesh {path}: {error.cause}"
                 error.args = (error.cause,)
             raise error
+        return found
+
+    def points(self, path: Path) -> np.ndarray:
+        """(n, 3) points of the mesh file at ``path`` whose bounding box, after any affine
+        map (scale, rotation, shift), is that of its used vertices: the vertices of their
+        convex hull (all of them when they span no volume). Kept in the persistent cache,
+        so a warm ``check`` reads no mesh file.
+
+        Raises
+        ------
+        MeshError
+            As :func:`~urdfinertia.mesh.read.load.load_mesh`.
+        """
+        key = self._key(path)
+        found = self._points.get(key)
+        if found is not None:
+            return found
+        entry = None
+        if self.cache is not None:
+            with self.timer.stage("cache"):
+                entry, hit = self.cache.lookup_points(key, self.max_faces)
+            if isinstance(hit, MeshError):
+                raise MeshError(hit.cause)
+            if hit is not None:
+                self._points[key] = hit
+                return hit
+        with self.timer.stage("mesh read"):
+            mesh = load_mesh(key, self.max_faces)
+        found = hull_points(mesh.vertices[np.unique(mesh.faces.reshape(-1))])
+        if self.cache is not None:
+            with self.timer.stage("cache"):
+                self.cache.store_points(entry, found, len(mesh.faces))
+        self._points[key] = found
         return found
 
     def failed_for_bytes_only(self, trace: list[tuple[str, str, str]]) -> bool:

@@ -178,6 +178,33 @@ class SolidsCache:
             return key, too_many_faces(path, faces, max_faces)
         return key, found
 
+    def lookup_points(self, path: Path, max_faces: int,
+                      ) -> tuple[str | None, np.ndarray | MeshError | None]:
+        """``(key, points)`` of :meth:`MeshLibrary.points` for the mesh at ``path``; points
+        None on a miss (key None: the file is not cacheable), a refusal over ``max_faces``.
+        """
+        if not self.enabled:
+            return None, None
+        key = file_entry_key(path, max_mesh_bytes(max_faces), self.digests)
+        if key is None:
+            return None, None
+        hit = self.read(self.points_path(key), lambda data: decode_points(data, key))
+        if hit is None:
+            return key, None
+        points, faces = hit
+        if faces > max_faces:
+            return key, too_many_faces(path, faces, max_faces)
+        return key, points
+
+    def store_points(self, key: str | None, points: np.ndarray, faces: int) -> None:
+        if key is not None:
+            self.write(self.points_path(key), pack(
+                {"format": CACHE_FORMAT, "kind": "points", "key": key, "faces": int(faces)},
+                points.reshape(-1)))
+
+    def points_path(self, key: str) -> Path:
+        return self.folder / key[:2] / f"{key}.points.entry"  # pruned like the others
+
     def store_mesh(self, key: str | None, path: Path, outcome: MeshSolids | Exception,
                    faces: int) -> None:
         """Keep ``outcome`` under ``key`` when it depends on the file's bytes alone.
@@ -452,3 +479,15 @@ def decode_entry(data: bytes, key: str) -> tuple[MeshSolids | MeshError, int] | 
     if set(mesh_fields) | {"solids"} != set(_field_names(MeshSolids)):
         return None
     return MeshSolids(solids=tuple(out), **mesh_fields), faces
+
+
+def decode_points(data: bytes, key: str) -> tuple[np.ndarray, int] | None:
+    """(points, face count) of a points entry for ``key``; None when it is not a valid one."""
+    import numpy as np
+
+    header, numbers = unpack(data)
+    if (header.get("format") != CACHE_FORMAT or header.get("kind") != "points"
+            or header.get("key") != key or not isinstance(header.get("faces"), int)
+            or len(numbers) % 3 or not len(numbers) or not np.all(np.isfinite(numbers))):
+        return None
+    return numbers.reshape(-1, 3), int(header["faces"])
