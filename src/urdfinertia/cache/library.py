@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import copy
 import weakref
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -63,6 +63,15 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
     if isinstance(found, MeshError):
         raise found
     return found
+
+
+#: ``reduce(vertices, faces, max_faces) -> (vertices, faces, how)`` of
+#: :meth:`MeshLibrary.display`.
+Reducer = Callable[[np.ndarray, np.ndarray, int], tuple[np.ndarray, np.ndarray, str]]
+
+
+def _points_entry(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
+    return {}, hull_points(mesh.vertices[np.unique(mesh.faces.reshape(-1))])
 
 
 def hull_points(points: np.ndarray) -> np.ndarray:
@@ -198,25 +207,65 @@ class MeshLibrary:
         """
         key = self._key(path)
         found = self._points.get(key)
-        if found is not None:
-            return found
+        if found is None:
+            numbers = self._derived(key, "points", _points_entry,
+                                    lambda h, x: len(x) % 3 == 0)[1]
+            found = self._points[key] = numbers.reshape(-1, 3)
+        return found
+
+    def display(self, path: Path, max_faces: int, reduce: Reducer,
+                ) -> tuple[np.ndarray, np.ndarray, int, str]:
+        """A display copy of the mesh file at ``path``: ``reduce(vertices, faces,
+        max_faces)`` (vertices, faces, how) and the file's face count, in the
+        persistent cache per ``max_faces``, so a warm report reads no mesh file.
+
+        Raises
+        ------
+        MeshError
+            As :func:`~urdfinertia.mesh.read.load.load_mesh`.
+        """
+        def make(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
+            v, f, how = reduce(mesh.vertices, mesh.faces, max_faces)
+            v = np.asarray(v, dtype=np.float64)
+            f = np.asarray(f, dtype=np.int64)
+            return {"method": how, "vertices": len(v)}, np.concatenate([v.ravel(), f.ravel()])
+
+        def valid(header: dict, numbers: np.ndarray) -> bool:
+            n = header.get("vertices")
+            return (isinstance(n, int) and 0 <= 3 * n <= len(numbers)
+                    and (len(numbers) - 3 * n) % 3 == 0
+                    and bool(np.all(numbers[3 * n:] < n)) and bool(np.all(numbers[3 * n:] >= 0)))
+
+        header, numbers, faces = self._derived(self._key(path), f"view-{int(max_faces)}",
+                                               make, valid)
+        n = header["vertices"]
+        return (numbers[:3 * n].reshape(-1, 3), numbers[3 * n:].astype(np.int64).reshape(-1, 3),
+                faces, str(header.get("method", "")))
+
+    def _derived(self, key: Path, kind: str,
+                 make: Callable[[TriangleMesh], tuple[dict, np.ndarray]],
+                 valid: Callable[[dict, np.ndarray], bool],
+                 ) -> tuple[dict, np.ndarray, int]:
+        """``(header, numbers, file face count)`` of the entry ``kind`` derived from the
+        mesh file ``key`` by ``make``: from the cache when ``valid`` accepts it (anything
+        else is recomputed), or made and stored."""
         entry = None
         if self.cache is not None:
             with self.timer.stage("cache"):
-                entry, hit = self.cache.lookup_points(key, self.max_faces)
+                entry, hit = self.cache.lookup_arrays(key, self.max_faces, kind)
             if isinstance(hit, MeshError):
                 raise MeshError(hit.cause)
-            if hit is not None:
-                self._points[key] = hit
-                return hit
+            if hit is not None and valid(*hit):
+                header, numbers = hit
+                return header, numbers, int(header["faces"])
         with self.timer.stage("mesh read"):
             mesh = load_mesh(key, self.max_faces)
-        found = hull_points(mesh.vertices[np.unique(mesh.faces.reshape(-1))])
+        header, numbers = make(mesh)
+        header = {**header, "faces": len(mesh.faces)}
         if self.cache is not None:
             with self.timer.stage("cache"):
-                self.cache.store_points(entry, found, len(mesh.faces))
-        self._points[key] = found
-        return found
+                self.cache.store_arrays(entry, kind, header, numbers)
+        return header, numbers, len(mesh.faces)
 
     def failed_for_bytes_only(self, trace: list[tuple[str, str, str]]) -> bool:
         """True when every mesh of ``trace`` (see :attr:`trace`) has an outcome that

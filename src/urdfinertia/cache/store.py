@@ -178,32 +178,36 @@ class SolidsCache:
             return key, too_many_faces(path, faces, max_faces)
         return key, found
 
-    def lookup_points(self, path: Path, max_faces: int,
-                      ) -> tuple[str | None, np.ndarray | MeshError | None]:
-        """``(key, points)`` of :meth:`MeshLibrary.points` for the mesh at ``path``; points
-        None on a miss (key None: the file is not cacheable), a refusal over ``max_faces``.
-        """
+    def lookup_arrays(self, path: Path, max_faces: int, kind: str,
+                      ) -> tuple[str | None, tuple[dict, np.ndarray] | MeshError | None]:
+        """``(key, (header, numbers))`` of an entry derived from the mesh at ``path``
+        other than its solids (``kind``: "points", "view-N", see :class:`MeshLibrary`);
+        None on a miss (key None: the file is not cacheable), a refusal over
+        ``max_faces``."""
         if not self.enabled:
             return None, None
         key = file_entry_key(path, max_mesh_bytes(max_faces), self.digests)
         if key is None:
             return None, None
-        hit = self.read(self.points_path(key), lambda data: decode_points(data, key))
+        hit = self.read(self.arrays_path(key, kind),
+                        lambda data: decode_arrays(data, key, kind))
         if hit is None:
             return key, None
-        points, faces = hit
-        if faces > max_faces:
-            return key, too_many_faces(path, faces, max_faces)
-        return key, points
+        if hit[0]["faces"] > max_faces:
+            return key, too_many_faces(path, hit[0]["faces"], max_faces)
+        return key, hit
 
-    def store_points(self, key: str | None, points: np.ndarray, faces: int) -> None:
+    def store_arrays(self, key: str | None, kind: str, header: dict,
+                     numbers: np.ndarray) -> None:
+        """Keep ``numbers`` with ``header`` (which holds the file's face count,
+        ``"faces"``) under ``key`` and ``kind``."""
         if key is not None:
-            self.write(self.points_path(key), pack(
-                {"format": CACHE_FORMAT, "kind": "points", "key": key, "faces": int(faces)},
-                points.reshape(-1)))
+            self.write(self.arrays_path(key, kind), pack(
+                {**header, "format": CACHE_FORMAT, "kind": kind, "key": key},
+                numbers.reshape(-1)))
 
-    def points_path(self, key: str) -> Path:
-        return self.folder / key[:2] / f"{key}.points.entry"  # pruned like the others
+    def arrays_path(self, key: str, kind: str) -> Path:
+        return self.folder / key[:2] / f"{key}.{kind}.entry"  # pruned like the others
 
     def store_mesh(self, key: str | None, path: Path, outcome: MeshSolids | Exception,
                    faces: int) -> None:
@@ -481,13 +485,14 @@ def decode_entry(data: bytes, key: str) -> tuple[MeshSolids | MeshError, int] | 
     return MeshSolids(solids=tuple(out), **mesh_fields), faces
 
 
-def decode_points(data: bytes, key: str) -> tuple[np.ndarray, int] | None:
-    """(points, face count) of a points entry for ``key``; None when it is not a valid one."""
+def decode_arrays(data: bytes, key: str, kind: str) -> tuple[dict, np.ndarray] | None:
+    """Header and numbers of an entry of ``kind`` for ``key``; None when it is not one
+    (the caller checks the numbers' shapes)."""
     import numpy as np
 
     header, numbers = unpack(data)
-    if (header.get("format") != CACHE_FORMAT or header.get("kind") != "points"
+    if (header.get("format") != CACHE_FORMAT or header.get("kind") != kind
             or header.get("key") != key or not isinstance(header.get("faces"), int)
-            or len(numbers) % 3 or not len(numbers) or not np.all(np.isfinite(numbers))):
+            or not len(numbers) or not np.all(np.isfinite(numbers))):
         return None
-    return numbers.reshape(-1, 3), int(header["faces"])
+    return header, numbers

@@ -34,7 +34,6 @@ from urdfinertia.descriptions.model import (
 )
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.mesh.read.load import load_mesh
 
 #: Default face budget of the whole 3-D view (about 24 bytes per face in the HTML: 16 for
 #: the base64 indices, 16 per vertex, about half a vertex per face once unused ones go).
@@ -251,9 +250,8 @@ def build_scene(robot: Robot, meshes: MeshLibrary, *, view: str = "visual",
             try:
                 path = meshes.resolve(shape.filename, urdf_dir).resolve()
                 if path not in memo:
-                    tri = load_mesh(path, meshes.max_faces)
-                    v, f, method = decimate(tri.vertices, tri.faces, cap)
-                    memo[path] = (v, f, len(tri.faces), method)
+                    v, f, n_faces, method = meshes.display(path, cap, decimate)
+                    memo[path] = (v, f, n_faces, method)
             except UrdfInertiaError as exc:
                 notes.append(f"link '{link.name}' {ref.label}: not drawn ({exc.cause})")
                 continue
