@@ -14,7 +14,7 @@ Rows, each in a fresh child process running a snapshot of the package taken at t
 5. the slowest robot of the folder (most repair time, from a per-mesh timing of every
    mesh ``fix --all`` reads, whose ten slowest meshes are printed): ``fix`` cold, then
    ``check`` twice on a private cache (the second reads what the first stored), then
-   ``report`` (time and HTML size).
+   ``report`` (time and HTML size) cold, after the fix (its cache), and once more.
 
 Wall time is the child's whole life (interpreter start, imports, work). Peak memory is
 the child's own high-water mark plus its largest worker's (Linux ``VmHWM`` and
@@ -22,6 +22,7 @@ the child's own high-water mark plus its largest worker's (Linux ``VmHWM`` and
 shared, so the load average is printed at the start and the end.
 
 Usage: python scripts/bench_speed.py [--robots DIR] [--against REF] [--robot FILE]
+                                     [--robot-only]
 """
 
 from __future__ import annotations
@@ -142,6 +143,8 @@ def main() -> int:
     p.add_argument("--against", metavar="REF", help="also run cold and warm with revision REF")
     p.add_argument("--robot", type=Path, help="the single robot of rows 5 (default: the "
                                               "slowest of the folder)")
+    p.add_argument("--robot-only", action="store_true",
+                   help="only the single-robot rows (with --robot)")
     p.add_argument("--child", choices=("baseline", "cli", "meshes"), help=argparse.SUPPRESS)
     p.add_argument("--cache-dir", type=Path, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
@@ -162,6 +165,12 @@ def main() -> int:
     with tempfile.TemporaryDirectory(prefix="urdfinertia-bench-speed-") as tmp:
         t = Path(tmp)
         code = bench.snapshot(t / "code")
+        if args.robot_only:
+            if args.robot is None:
+                sys.exit("--robot-only needs --robot FILE")
+            robot_rows(code, t, args.robot)
+            print(f"\nload average at end {load()}")
+            return 0
         rows: list[tuple[str, float, dict]] = []
         wall, res = run_child(["--child", "baseline", "--robots", str(robots)], code)
         rows.append(("naive loop", wall, res))
@@ -216,23 +225,30 @@ def main() -> int:
                 per_file[f] = per_file.get(f, 0.0) + c["seconds"]
         robot = args.robot or Path(max(per_file, key=per_file.__getitem__))
         print(f"\nslowest robot: {robot} ({per_file.get(str(robot), 0.0):.1f} s of meshes)")
-        cache = t / "cache-robot"
-        wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot.urdf"), "-q")
-        print(f"fix cold: {wall:.2f} s ({verdict(wall, ROBOT_COLD_S)})")
-        wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot2.urdf"), "-q")
-        print(f"fix warm: {wall:.2f} s")
-        check_cache = t / "cache-check"
-        first, _ = cli(code, check_cache, "check", str(robot), "-q")
-        second, _ = cli(code, check_cache, "check", str(robot), "-q")
-        print(f"check: first {first:.2f} s (empty cache), second {second:.2f} s "
-              f"({verdict(second, SECOND_CHECK_S)})")
-        html = t / "report.html"
-        wall, res = cli(code, t / "cache-report", "report", str(robot), "-o", str(html))
-        size = html.stat().st_size / 2**20 if html.exists() else float("nan")
-        print(f"report cold: {wall:.2f} s ({verdict(wall, REPORT_S)}), {size:.2f} MB "
-              f"({verdict(size, REPORT_MB)}), peak {res['peak_main_mb']:.0f} MB")
+        robot_rows(code, t, robot)
     print(f"\nload average at end {load()}")
     return 0
+
+
+def robot_rows(code: Path, t: Path, robot: Path) -> None:
+    """fix cold and warm, check twice, report cold and after fix, on one robot."""
+    cache = t / "cache-robot"
+    wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot.urdf"), "-q")
+    print(f"fix cold: {wall:.2f} s ({verdict(wall, ROBOT_COLD_S)})")
+    wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot2.urdf"), "-q")
+    print(f"fix warm: {wall:.2f} s")
+    check_cache = t / "cache-check"
+    first, _ = cli(code, check_cache, "check", str(robot), "-q")
+    second, _ = cli(code, check_cache, "check", str(robot), "-q")
+    print(f"check: first {first:.2f} s (empty cache), second {second:.2f} s "
+          f"({verdict(second, SECOND_CHECK_S)})")
+    for label, where in (("cold", t / "cache-report"), ("after fix", cache),
+                         ("again", cache)):
+        html = t / f"report-{where.name}.html"
+        wall, res = cli(code, where, "report", str(robot), "-o", str(html))
+        size = html.stat().st_size / 2**20 if html.exists() else float("nan")
+        print(f"report {label}: {wall:.2f} s ({verdict(wall, REPORT_S)}), {size:.2f} MB "
+              f"({verdict(size, REPORT_MB)}), peak {res['peak_main_mb']:.0f} MB")
 
 
 if __name__ == "__main__":
