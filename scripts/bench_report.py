@@ -46,6 +46,7 @@ class PageLoad:
     console_other : every other console entry, for the record.
     requests : URLs the page requested besides itself (none expected).
     rendered : how many plots finished drawing, and how many the page has.
+    overflow : CSS pixels the page is wider than the window (0: no sideways scrolling).
     """
 
     seconds: float
@@ -55,6 +56,7 @@ class PageLoad:
     requests: tuple[str, ...]
     rendered: tuple[int, int]
     webgl: bool
+    overflow: int = 0
 
 
 def install_chromium() -> bool:
@@ -98,6 +100,8 @@ def load_in_chromium(html: Path, screenshot: Path | None = None,
             "return p.length ? p[0].startTime : NaN")) / 1000
         webgl = bool(driver.execute_script(
             "return !!document.createElement('canvas').getContext('webgl')"))
+        overflow = int(driver.execute_script(
+            "return document.documentElement.scrollWidth - window.innerWidth"))
         if screenshot is not None:
             time.sleep(0.3)  # let the WebGL canvas present its first frame
             driver.save_screenshot(str(screenshot))
@@ -119,7 +123,8 @@ def load_in_chromium(html: Path, screenshot: Path | None = None,
             requests.append(req)
     errors = tuple(e["message"] for e in console if e["level"] == "SEVERE")
     other = tuple(f"{e['level']}: {e['message']}" for e in console if e["level"] != "SEVERE")
-    return PageLoad(seconds, first_paint, errors, other, tuple(requests), (done, wanted), webgl)
+    return PageLoad(seconds, first_paint, errors, other, tuple(requests), (done, wanted), webgl,
+                    overflow)
 
 
 def main(argv: list[str] | None = None) -> int:

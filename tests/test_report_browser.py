@@ -63,6 +63,7 @@ def check_page(page: Path, shot: Path):
     assert load.console_errors == ()
     assert load.requests == ()
     assert load.webgl
+    assert load.overflow <= 0, "the page scrolls sideways in a 1400 px window"
     # The 3-D view really shows both kinds of box (their edge colours), not a blank canvas.
     for source in ("existing", "recomputed"):
         assert color_pixels(shot, COLORS[source]) > 200, source
@@ -73,6 +74,15 @@ def test_nm7mar_report_in_chromium(chromium, tmp_path, robots_dir):
     page = render(tmp_path, robots_dir / "nm7mar.urdf",
                   "--spec", str(robots_dir / "nm7mar.inertia.toml"))
     check_page(page, tmp_path / "nm7mar.png")
+
+
+def test_sixty_links_fit_the_window(chromium, tmp_path, erd_dir):
+    """A big robot's table (long link names, many findings) fits 1400 px: no sideways
+    scrolling, and the page stays under 5 MB."""
+    urdf = erd_dir / "robots" / "talos_data" / "robots" / "talos_full_v2.urdf"
+    page = render(tmp_path, urdf)
+    assert page.stat().st_size < 5e6
+    check_page(page, tmp_path / "talos.png")
 
 
 def test_example_robot_data_report_in_chromium(chromium, tmp_path, erd_dir):

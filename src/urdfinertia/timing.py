@@ -62,3 +62,29 @@ class StageTimes:
     def __repr__(self) -> str:
         body = ", ".join(f"{k}={v:.3f}s" for k, v in self.ordered())
         return f"StageTimes({body})"
+
+
+class OverBudget(Exception):
+    """Raised by :meth:`Deadline.check` once its time is up."""
+
+
+class Deadline:
+    """A limit on the CPU time of this process that long computations check between steps.
+
+    CPU time, not wall time: on a loaded machine (a CI runner, a shared build host) the
+    same work takes the same CPU time, so a result does not depend on what else ran.
+    ``seconds`` None never expires. Checking is cheap (one clock read), so loops check
+    once per step and the caller that set the deadline catches :class:`OverBudget`.
+    """
+
+    def __init__(self, seconds: float | None) -> None:
+        self.seconds = seconds
+        self.end = None if seconds is None else time.process_time() + seconds
+
+    def expired(self) -> bool:
+        return self.end is not None and time.process_time() > self.end
+
+    def check(self) -> None:
+        """Raise :class:`OverBudget` when the time is up."""
+        if self.expired():
+            raise OverBudget(f"over the time budget of {self.seconds:g} s")

@@ -134,3 +134,75 @@ def test_a_rejected_mesh_is_remembered_by_the_cache(tmp_path, count_reads):
         MeshLibrary(cache=store).solids(flat)
     assert len(count_reads) == 1
     assert str(warm.value) == str(cold.value)
+
+
+# --- points for bounding boxes (check's geometry), kept in the persistent cache ---------
+@pytest.fixture
+def sphere_stl(tmp_path):
+    path = tmp_path / "sphere.stl"
+    trimesh.creation.icosphere(3, 0.2).export(path)  # 642 vertices, most not on a box
+    return path
+
+
+def test_points_give_the_boxes_of_every_vertex_under_any_rotation(sphere_stl, rng):
+    from scipy.spatial.transform import Rotation
+
+    mesh = load_mesh(sphere_stl)
+    every = mesh.vertices[np.unique(mesh.faces)]
+    points = MeshLibrary().points(sphere_stl)
+    assert len(points) <= len(every)
+    for r in Rotation.random(20, random_state=7).as_matrix():
+        scale = rng.uniform(-2.0, 2.0, size=3)  # mirrored too
+        a, b = (every * scale) @ r.T, (points * scale) @ r.T
+        # the hull's vertices hold every extreme: the same boxes to round-off (1e-15 m:
+        # a point on a hull facet may round one unit above its vertices)
+        np.testing.assert_allclose(a.min(axis=0), b.min(axis=0), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(a.max(axis=0), b.max(axis=0), rtol=0, atol=1e-15)
+
+
+def test_points_come_from_the_cache_on_a_second_run(sphere_stl, tmp_path, count_reads):
+    first = MeshLibrary(cache=SolidsCache(tmp_path / "cache")).points(sphere_stl)
+    assert len(count_reads) == 1
+    again = MeshLibrary(cache=SolidsCache(tmp_path / "cache")).points(sphere_stl)
+    assert len(count_reads) == 1  # no mesh file read
+    np.testing.assert_array_equal(first, again)
+    with pytest.raises(MeshError, match="faces"):  # the face limit holds on a hit too
+        MeshLibrary(max_faces=10, cache=SolidsCache(tmp_path / "cache")).points(sphere_stl)
+
+
+def test_flat_meshes_keep_all_their_points(tmp_path):
+    flat = np.c_[np.random.default_rng(1).uniform(size=(100, 2)), np.zeros(100)]
+    assert len(meshlib.hull_points(flat)) == 100
+
+
+def test_every_command_reads_and_fills_the_one_cache(sphere_stl, tmp_path, count_reads,
+                                                     monkeypatch):
+    """check, compare, explain and report build their libraries with mesh_library: what
+    one of them computed, the next reads from the cache (the suite's private cache dir)."""
+    from urdfinertia.cli import main
+
+    urdf = tmp_path / "ball.urdf"
+    urdf.write_text(f"""<robot name="ball"><link name="ball">
+  <inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>
+  </inertial>
+  <collision><geometry><mesh filename="{sphere_stl.name}"/></geometry></collision>
+</link></robot>""")
+    monkeypatch.setenv("URDFINERTIA_CACHE_DIR", str(tmp_path / "shared-cache"))
+    main(["check", str(urdf), "-q"])
+    assert count_reads  # the first command reads the mesh
+    count_reads.clear()
+    main(["check", str(urdf), "-q"])
+    main(["compare", str(urdf)])
+    assert main(["explain", str(urdf), "--link", "ball"]) == 0
+    assert count_reads == []  # nothing read again: points and solids came from the cache
+    assert main(["report", str(urdf), "-o", str(tmp_path / "r.html")]) == 0
+    assert len(count_reads) == 1  # the display copy, made once
+    assert main(["report", str(urdf), "-o", str(tmp_path / "r2.html")]) == 0
+    assert len(count_reads) == 1  # and then read from the cache
+    assert (tmp_path / "r.html").read_bytes() == (tmp_path / "r2.html").read_bytes()
+
+
+def test_mesh_library_without_cache(tmp_path):
+    assert meshlib.mesh_library(use_cache=False).cache is None
+    lib = meshlib.mesh_library(cache_dir=tmp_path / "c")
+    assert lib.cache is not None and lib.cache.root == tmp_path / "c"

@@ -17,6 +17,7 @@ from urdfinertia.render.scene import (
     decimate,
     equivalent_box,
     existing_mass_properties,
+    used_only,
 )
 
 
@@ -212,3 +213,18 @@ def test_build_scene_refuses_an_unknown_view(tmp_path):
     with pytest.raises(ValueError):
         build_scene(scene_robot(tmp_path), MeshLibrary(), view="pretty")
 
+
+
+def test_display_meshes_keep_only_distinct_used_vertices(rng):
+    """A triangle soup (every corner its own vertex) plus unused points shrinks to the
+    sphere's own vertices, and every face keeps its corner positions."""
+    sphere = trimesh.creation.icosphere(2)
+    soup = sphere.vertices[sphere.faces].reshape(-1, 3)
+    stray = rng.uniform(5.0, 6.0, size=(100, 3))
+    v = np.concatenate([stray, soup])
+    f = len(stray) + np.arange(len(soup)).reshape(-1, 3)
+    small_v, small_f = used_only(v, f)
+    assert len(small_v) == len(sphere.vertices)
+    np.testing.assert_array_equal(small_v[small_f], v[f])
+    _, dec_f, _ = decimate(v, f, 10_000)  # under budget: as is, but compacted too
+    assert dec_f.max() == len(sphere.vertices) - 1

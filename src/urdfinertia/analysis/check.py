@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
 from urdfinertia.descriptions.model import Robot
@@ -116,7 +116,7 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
     links: tuple[LinkResult, ...] = ()
     if geometry:
         if meshes is None:
-            meshes = MeshLibrary(options.package_dirs, options.max_faces)
+            meshes = mesh_library(options.package_dirs, options.max_faces)
         links = link_verdicts(robot, options, meshes)
         for r in links:
             findings.extend(r.findings)

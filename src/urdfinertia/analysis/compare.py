@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.inertia.massprops import MassProperties
@@ -237,7 +237,7 @@ def compare_with_geometry(path: str | Path, options: FixOptions | None = None,
     """
     options = options or FixOptions()
     if meshes is None:
-        meshes = MeshLibrary(options.package_dirs, options.max_faces)
+        meshes = mesh_library(options.package_dirs, options.max_faces)
     if fix_result is None:
         robot, data = read_description(path, lenient=True)
         fix_result = fix_robot(robot, data, every_link(options), meshes)

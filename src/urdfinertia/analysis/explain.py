@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.model import Robot
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
@@ -164,7 +164,7 @@ def explain_link(robot: Robot, name: str, options: FixOptions | None = None,
         raise UrdfInertiaError(f"no link named '{name}' (did you mean: {', '.join(near)}?)",
                                file=path)
     if meshes is None:
-        meshes = MeshLibrary(options.package_dirs, options.max_faces)
+        meshes = mesh_library(options.package_dirs, options.max_faces)
     verdict = link_verdict(robot, name, options, meshes)
     link = robot.link(name)
     try:

@@ -324,18 +324,33 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
 
     load_compute_modules()
     total = len(jobs)
-    with open_executor(settings.jobs, settings.dask) as pool:
+    run = _Run(options, settings, cache, progress)
+    pending = set(todo)
+    needs: list[list[Path]] = []
+    jobs_now = settings.jobs
+    if jobs_now > 1 and not settings.dask:
+        with run.times.stage("xml"):
+            needs = [referenced_meshes(jobs[i].source, options) if i in pending else []
+                     for i in range(total)]
+        distinct = dict.fromkeys(p for paths in needs for p in paths)
+        # nothing to compute (every mesh cached, or a file no reader can open): starting
+        # worker processes would cost more than the files themselves
+        if all(run.lookup_cache(p) or p not in run.keys for p in distinct):
+            jobs_now = 1
+    with open_executor(jobs_now, settings.dask) as pool:
         if pool is None:
             library = MeshLibrary(options.package_dirs, options.max_faces, cache)
+            for path, outcome in run.meshes.items():
+                library.seed(path, outcome)
+            times.merge(run.times)  # the look-ups above; each file brings its own times
             for i in todo:
                 finish(i, fix_with_library(jobs[i].source, options, library,
                                            settings.details))
             return len(library._memo)
-        run = _Run(options, settings, cache, progress)
-        pending = set(todo)
-        with run.times.stage("xml"):
-            needs = [referenced_meshes(jobs[i].source, options) if i in pending else []
-                     for i in range(total)]
+        if not needs:
+            with run.times.stage("xml"):
+                needs = [referenced_meshes(jobs[i].source, options) if i in pending else []
+                         for i in range(total)]
 
         def ready(i: int) -> None:
             if i not in pending:

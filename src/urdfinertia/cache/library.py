@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import copy
-from collections.abc import Mapping
+import weakref
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
-from urdfinertia.cache.store import SolidsCache, cacheable
+import numpy as np
+
+from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache, cacheable
 from urdfinertia.descriptions.paths import RealPaths, resolve_mesh_path
 from urdfinertia.errors import MeshError
 from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
@@ -62,6 +65,31 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
     return found
 
 
+#: ``reduce(vertices, faces, max_faces) -> (vertices, faces, how)`` of
+#: :meth:`MeshLibrary.display`.
+Reducer = Callable[[np.ndarray, np.ndarray, int], tuple[np.ndarray, np.ndarray, str]]
+
+
+def _points_entry(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
+    return {}, hull_points(mesh.vertices[np.unique(mesh.faces.reshape(-1))])
+
+
+def hull_points(points: np.ndarray) -> np.ndarray:
+    """The vertices of the convex hull of ``points`` (n, 3), in input order; all of
+    ``points`` when they span no volume (flat, collinear) or are few."""
+    points = np.asarray(points, dtype=np.float64)
+    if len(points) <= 64:
+        return points
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        # the extreme points of every direction are hull vertices: with no merging of
+        # nearly coplanar facets ("Q" options off), none of them is dropped
+        return points[np.sort(ConvexHull(points, qhull_options="Qt").vertices)]
+    except (QhullError, ValueError):
+        return points
+
+
 def fresh(exc: Exception) -> Exception:
     """A new exception equal to ``exc`` with its own attributes (context is added per use).
 
@@ -95,6 +123,7 @@ class MeshLibrary:
         self.cache = cache
         self.timer = timer if timer is not None else StageTimes()
         self._memo: dict[Path, MeshSolids | Exception] = {}
+        self._points: dict[Path, np.ndarray] = {}
         self._resolved: dict[tuple[str, Path], Path | MeshError] = {}
         self._records: dict[tuple[str, Path], tuple[str, str, str]] = {}
         self._real_path = RealPaths()
@@ -165,12 +194,106 @@ class MeshLibrary:
             raise error
         return found
 
+    def points(self, path: Path) -> np.ndarray:
+        """(n, 3) points of the mesh file at ``path`` whose bounding box, after any affine
+        map (scale, rotation, shift), is that of its used vertices: the vertices of their
+        convex hull (all of them when they span no volume). Kept in the persistent cache,
+        so a warm ``check`` reads no mesh file.
+
+        Raises
+        ------
+        MeshError
+            As :func:`~urdfinertia.mesh.read.load.load_mesh`.
+        """
+        key = self._key(path)
+        found = self._points.get(key)
+        if found is None:
+            numbers = self._derived(key, "points", _points_entry,
+                                    lambda h, x: len(x) % 3 == 0)[1]
+            found = self._points[key] = numbers.reshape(-1, 3)
+        return found
+
+    def display(self, path: Path, max_faces: int, reduce: Reducer,
+                ) -> tuple[np.ndarray, np.ndarray, int, str]:
+        """A display copy of the mesh file at ``path``: ``reduce(vertices, faces,
+        max_faces)`` (vertices, faces, how) and the file's face count, in the
+        persistent cache per ``max_faces``, so a warm report reads no mesh file.
+
+        Raises
+        ------
+        MeshError
+            As :func:`~urdfinertia.mesh.read.load.load_mesh`.
+        """
+        def make(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
+            v, f, how = reduce(mesh.vertices, mesh.faces, max_faces)
+            v = np.asarray(v, dtype=np.float64)
+            f = np.asarray(f, dtype=np.int64)
+            return {"method": how, "vertices": len(v)}, np.concatenate([v.ravel(), f.ravel()])
+
+        def valid(header: dict, numbers: np.ndarray) -> bool:
+            n = header.get("vertices")
+            return (isinstance(n, int) and 0 <= 3 * n <= len(numbers)
+                    and (len(numbers) - 3 * n) % 3 == 0
+                    and bool(np.all(numbers[3 * n:] < n)) and bool(np.all(numbers[3 * n:] >= 0)))
+
+        header, numbers, faces = self._derived(self._key(path), f"view-{int(max_faces)}",
+                                               make, valid)
+        n = header["vertices"]
+        return (numbers[:3 * n].reshape(-1, 3), numbers[3 * n:].astype(np.int64).reshape(-1, 3),
+                faces, str(header.get("method", "")))
+
+    def _derived(self, key: Path, kind: str,
+                 make: Callable[[TriangleMesh], tuple[dict, np.ndarray]],
+                 valid: Callable[[dict, np.ndarray], bool],
+                 ) -> tuple[dict, np.ndarray, int]:
+        """``(header, numbers, file face count)`` of the entry ``kind`` derived from the
+        mesh file ``key`` by ``make``: from the cache when ``valid`` accepts it (anything
+        else is recomputed), or made and stored."""
+        entry = None
+        if self.cache is not None:
+            with self.timer.stage("cache"):
+                entry, hit = self.cache.lookup_arrays(key, self.max_faces, kind)
+            if isinstance(hit, MeshError):
+                raise MeshError(hit.cause)
+            if hit is not None and valid(*hit):
+                header, numbers = hit
+                return header, numbers, int(header["faces"])
+        with self.timer.stage("mesh read"):
+            mesh = load_mesh(key, self.max_faces)
+        header, numbers = make(mesh)
+        header = {**header, "faces": len(mesh.faces)}
+        if self.cache is not None:
+            with self.timer.stage("cache"):
+                self.cache.store_arrays(entry, kind, header, numbers)
+        return header, numbers, len(mesh.faces)
+
     def failed_for_bytes_only(self, trace: list[tuple[str, str, str]]) -> bool:
-        """True when no mesh of ``trace`` (see :attr:`trace`) failed for a reason other
-        than its bytes (:func:`cacheable`): a file error then depends on its inputs alone."""
+        """True when every mesh of ``trace`` (see :attr:`trace`) has an outcome that
+        depends on its bytes alone (:func:`cacheable`: no failure for another reason, no
+        repair cut short by the time budget): a file's result then depends on its inputs
+        alone."""
         for _, _, path in trace:
             if path:
                 found = self._memo.get(Path(path))
-                if isinstance(found, Exception) and not cacheable(found, Path(path)):
+                if found is not None and not cacheable(found, Path(path)):
                     return False
         return True
+
+
+def mesh_library(package_dirs: Mapping[str, Path] | None = None,
+                 max_faces: int = DEFAULT_MAX_FACES, *, use_cache: bool = True,
+                 cache_dir: Path | None = None,
+                 cache_max_bytes: int = DEFAULT_MAX_BYTES) -> MeshLibrary:
+    """The mesh library of a command: every command builds its library here.
+
+    It reads and fills the persistent mesh cache (``cache_dir``, default
+    :func:`~urdfinertia.cache.store.default_cache_dir`) unless ``use_cache`` is False, so
+    ``check``, ``compare``, ``explain`` and ``report`` reuse what ``fix`` (or an earlier
+    run of any of them) computed. The cache is kept within ``cache_max_bytes`` when the
+    library is discarded (least recently used entries go first).
+    """
+    cache = SolidsCache(cache_dir, cache_max_bytes) if use_cache else None
+    library = MeshLibrary(package_dirs, max_faces, cache)
+    if cache is not None:
+        weakref.finalize(library, cache.prune)
+    return library

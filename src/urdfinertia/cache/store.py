@@ -32,7 +32,7 @@ from urdfinertia.atomic import replace_file
 from urdfinertia.cache.digests import FileDigests, content_digest, file_digest
 from urdfinertia.cache.version import code_digest
 from urdfinertia.errors import MeshError
-from urdfinertia.mesh.limits import max_mesh_bytes
+from urdfinertia.mesh.limits import OVER_BUDGET_NOTE, max_mesh_bytes
 
 if TYPE_CHECKING:
     import numpy as np
@@ -71,11 +71,17 @@ def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
 
 
 def cacheable(outcome: object, path: Path) -> bool:
-    """Solids, or a repair error that depends on the bytes only (names no path)."""
+    """Solids, or a repair error that depends on the bytes only (names no path).
+
+    Solids repaired past the time budget (fans only) are not: another run may have the
+    time for the refined caps.
+    """
     if isinstance(outcome, MeshError):
         return (outcome.file is None and str(path) not in outcome.cause
                 and path.name not in outcome.cause)
-    return not isinstance(outcome, Exception)
+    notes = getattr(outcome, "notes", ())
+    return (not isinstance(outcome, Exception)
+            and not any(n.startswith(OVER_BUDGET_NOTE) for n in notes))
 
 
 def default_cache_dir() -> Path:
@@ -171,6 +177,37 @@ class SolidsCache:
         if faces > max_faces:
             return key, too_many_faces(path, faces, max_faces)
         return key, found
+
+    def lookup_arrays(self, path: Path, max_faces: int, kind: str,
+                      ) -> tuple[str | None, tuple[dict, np.ndarray] | MeshError | None]:
+        """``(key, (header, numbers))`` of an entry derived from the mesh at ``path``
+        other than its solids (``kind``: "points", "view-N", see :class:`MeshLibrary`);
+        None on a miss (key None: the file is not cacheable), a refusal over
+        ``max_faces``."""
+        if not self.enabled:
+            return None, None
+        key = file_entry_key(path, max_mesh_bytes(max_faces), self.digests)
+        if key is None:
+            return None, None
+        hit = self.read(self.arrays_path(key, kind),
+                        lambda data: decode_arrays(data, key, kind))
+        if hit is None:
+            return key, None
+        if hit[0]["faces"] > max_faces:
+            return key, too_many_faces(path, hit[0]["faces"], max_faces)
+        return key, hit
+
+    def store_arrays(self, key: str | None, kind: str, header: dict,
+                     numbers: np.ndarray) -> None:
+        """Keep ``numbers`` with ``header`` (which holds the file's face count,
+        ``"faces"``) under ``key`` and ``kind``."""
+        if key is not None:
+            self.write(self.arrays_path(key, kind), pack(
+                {**header, "format": CACHE_FORMAT, "kind": kind, "key": key},
+                numbers.reshape(-1)))
+
+    def arrays_path(self, key: str, kind: str) -> Path:
+        return self.folder / key[:2] / f"{key}.{kind}.entry"  # pruned like the others
 
     def store_mesh(self, key: str | None, path: Path, outcome: MeshSolids | Exception,
                    faces: int) -> None:
@@ -448,3 +485,16 @@ def decode_entry(data: bytes, key: str) -> tuple[MeshSolids | MeshError, int] | 
     if set(mesh_fields) | {"solids"} != set(_field_names(MeshSolids)):
         return None
     return MeshSolids(solids=tuple(out), **mesh_fields), faces
+
+
+def decode_arrays(data: bytes, key: str, kind: str) -> tuple[dict, np.ndarray] | None:
+    """Header and numbers of an entry of ``kind`` for ``key``; None when it is not one
+    (the caller checks the numbers' shapes)."""
+    import numpy as np
+
+    header, numbers = unpack(data)
+    if (header.get("format") != CACHE_FORMAT or header.get("kind") != kind
+            or header.get("key") != key or not isinstance(header.get("faces"), int)
+            or not len(numbers) or not np.all(np.isfinite(numbers))):
+        return None
+    return header, numbers

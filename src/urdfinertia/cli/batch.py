@@ -20,6 +20,7 @@ from urdfinertia.cache.store import DEFAULT_MAX_BYTES, ENV_VAR
 from urdfinertia.cli.options import positive_int
 from urdfinertia.errors import OutputError
 from urdfinertia.link.options import FixOptions
+from urdfinertia.mesh.limits import BUDGET_ENV_VAR, DEFAULT_MESH_SECONDS
 from urdfinertia.timing import StageTimes
 
 if TYPE_CHECKING:
@@ -33,8 +34,14 @@ if TYPE_CHECKING:
 
 def add_batch_arguments(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("speed: workers, cache, cluster")
-    g.add_argument("-j", "--jobs", type=positive_int, default=1, metavar="N",
-                   help="worker processes (default 1)")
+    g.add_argument("-j", "--jobs", type=positive_int, default=None, metavar="N",
+                   help="worker processes (default: the cores this process may use, "
+                        f"now {available_cores()})")
+    g.add_argument("--mesh-seconds", type=float, metavar="S",
+                   help="CPU seconds a mesh's repair may spend on refined hole caps before it "
+                        "caps them with fans and widens the stated error (default "
+                        f"{DEFAULT_MESH_SECONDS:g}; 0: no limit); also "
+                        f"${BUDGET_ENV_VAR}")
     g.add_argument("--no-cache", action="store_true",
                    help="neither read nor write the persistent mesh cache")
     g.add_argument("--cache-dir", type=Path, metavar="DIR",
@@ -49,10 +56,22 @@ def add_batch_arguments(p: argparse.ArgumentParser) -> None:
                    help="print the wall time of each stage on stderr")
 
 
+def available_cores() -> int:
+    """Cores this process may run on (its CPU affinity where the system has one)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
 def settings_from_args(args: argparse.Namespace) -> BatchSettings:
     # getattr: other commands reuse this with parsers that lack some of the options
+    seconds = getattr(args, "mesh_seconds", None)
+    if seconds is not None:  # the environment carries it to worker processes
+        os.environ[BUDGET_ENV_VAR] = repr(float(seconds))
+    jobs = getattr(args, "jobs", 1)
     return BatchSettings(
-        jobs=getattr(args, "jobs", 1),
+        jobs=jobs if jobs is not None else available_cores(),
         use_cache=not getattr(args, "no_cache", False),
         cache_dir=getattr(args, "cache_dir", None),
         cache_max_bytes=getattr(args, "cache_max_mb", DEFAULT_MAX_BYTES >> 20) << 20,
@@ -131,14 +150,14 @@ def stderr_console() -> Console:
 
 def single_file_library(args: argparse.Namespace, options: FixOptions) -> MeshLibrary:
     """The mesh library for a one-file run (meshes in parallel with --jobs/--dask)."""
-    from urdfinertia.cache.library import MeshLibrary
+    from urdfinertia.cache.library import mesh_library
 
     settings = settings_from_args(args)
-    cache = settings.open_cache()
     if settings.jobs > 1 or settings.dask:
         with ProgressBar(getattr(args, "quiet", False)) as bar:
-            return prepared_library([args.urdf], options, settings, cache, bar)
-    return MeshLibrary(options.package_dirs, options.max_faces, cache)
+            return prepared_library([args.urdf], options, settings, settings.open_cache(), bar)
+    return mesh_library(options.package_dirs, options.max_faces, use_cache=settings.use_cache,
+                        cache_dir=settings.cache_dir, cache_max_bytes=settings.cache_max_bytes)
 
 
 def finish_single(args: argparse.Namespace, meshes: MeshLibrary) -> None:

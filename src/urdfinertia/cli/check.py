@@ -28,7 +28,7 @@ from urdfinertia.analysis.baseline import Baseline, write_baseline
 from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
 from urdfinertia.analysis.locate import CheckedFile, locate_all
 from urdfinertia.atomic import atomic_write_bytes
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import mesh_library
 from urdfinertia.cli.options import (
     add_engine_arguments,
     add_geometry_source_arguments,
@@ -96,7 +96,7 @@ def unverified_unknown(cf: CheckedFile) -> bool:
 def run(args: argparse.Namespace) -> int:
     options = FixOptions(geometry=args.geometry, package_dirs=dict(args.package_dir),
                          max_faces=args.max_faces)
-    meshes = None if args.no_geometry else MeshLibrary(options.package_dirs, options.max_faces)
+    meshes = None if args.no_geometry else mesh_library(options.package_dirs, options.max_faces)
     baseline = (Baseline.load(args.baseline) if args.baseline is not None
                 else Baseline.empty(Path.cwd()))
     engines = engine_request(args)

@@ -22,7 +22,6 @@ from urdfinertia.descriptions.model import (
     Shape,
     Sphere,
 )
-from urdfinertia.mesh.read.load import load_mesh
 
 
 class BoundsCache:
@@ -36,10 +35,7 @@ class BoundsCache:
         path = self.meshes.resolve(uri, urdf_dir).resolve()
         found = self._memo.get(path)
         if found is None:
-            mesh = load_mesh(path, self.meshes.max_faces)
-            used = np.unique(mesh.faces.reshape(-1))
-            found = mesh.vertices[used]
-            self._memo[path] = found
+            found = self._memo[path] = self.meshes.points(path)
         return found
 
 

@@ -36,13 +36,13 @@ def link_verdicts(robot: Robot, options: FixOptions,
     The plan (:func:`urdfinertia.link.policy.plan_robot`: findings and decision) carried
     out link by link (:func:`urdfinertia.link.apply.apply_decision`); nothing is written.
     """
-    from urdfinertia.cache.library import MeshLibrary
+    from urdfinertia.cache.library import mesh_library
     from urdfinertia.link.apply import apply_decision
     from urdfinertia.link.policy import plan_robot
 
     path = robot.path or Path("robot.urdf")
     if meshes is None:
-        meshes = MeshLibrary(options.package_dirs, options.max_faces)
+        meshes = mesh_library(options.package_dirs, options.max_faces)
     urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
@@ -64,7 +64,7 @@ def link_verdicts(robot: Robot, options: FixOptions,
 def link_verdict(robot: Robot, name: str, options: FixOptions,
                  meshes: MeshLibrary | None = None) -> LinkResult:
     """One link's verdict, as :func:`link_verdicts` gives it, computing that link only."""
-    from urdfinertia.cache.library import MeshLibrary
+    from urdfinertia.cache.library import mesh_library
     from urdfinertia.descriptions.kinematics import Kinematics
     from urdfinertia.link.apply import apply_decision
     from urdfinertia.link.bounds import BoundsCache
@@ -72,7 +72,7 @@ def link_verdict(robot: Robot, name: str, options: FixOptions,
 
     path = robot.path or Path("robot.urdf")
     if meshes is None:
-        meshes = MeshLibrary(options.package_dirs, options.max_faces)
+        meshes = mesh_library(options.package_dirs, options.max_faces)
     if options.spec is not None:
         options.spec.check_links(robot)
     link = robot.link(name)

@@ -8,6 +8,7 @@ so the page loads nothing from the network and works offline.
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import json
 from collections.abc import Sequence
@@ -19,7 +20,7 @@ import numpy as np
 from urdfinertia import __version__
 from urdfinertia.analysis.check import Finding, check_description
 from urdfinertia.analysis.compare import LinkComparison, compare_with_geometry, summary
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.fix import fix_robot
@@ -38,6 +39,12 @@ from urdfinertia.render.scene import (
 
 #: Colours of the two inertial sources and of the geometry.
 COLORS = {"existing": "#e8710a", "recomputed": "#1a73e8", "geometry": "#80868b"}
+#: Opacity of the boxes' faces: low, so that the robot inside them stays visible (their
+#: edges are drawn opaque).
+BOX_OPACITY = 0.12
+#: Longest box side drawn, times the diagonal of the robot's geometry: a wrong inertial
+#: of metres must not shrink the robot to a dot (the hover text gives the real sides).
+BOX_LIMIT = 1.0
 #: plotly config: no logo link, no fetches (topojson is only for geo maps, never needed).
 PLOTLY_CONFIG = {"displaylogo": False, "responsive": True, "topojsonURL": "",
                  "toImageButtonOptions": {"format": "png", "scale": 2}}
@@ -85,7 +92,7 @@ def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
     inertial shows up as invalid in the report instead of stopping it.
     """
     robot, data = read_description(path, lenient=True)
-    meshes = MeshLibrary(options.package_dirs, options.max_faces)
+    meshes = mesh_library(options.package_dirs, options.max_faces)
     checked = check_description(robot, meshes=meshes, options=options)
     fix = FixResult(robot.path or Path(path), robot, checked.links, data, data)
     geometry = fix_robot(robot, data, every_link(options), meshes)  # compare's side B
@@ -117,11 +124,24 @@ def _plain(text: str) -> str:
     return html.escape(text).replace("%", "&#37;")
 
 
+def _box_limit(data: ReportData) -> float | None:
+    """Longest box side drawn (m): ``BOX_LIMIT`` times the diagonal of what the view shows
+    besides boxes (geometry and centres of mass); None when that is a point."""
+    points = [m.vertices for m in data.scene.meshes if len(m.vertices)]
+    points += [b.center[None] for r in data.rows for b in r.boxes]
+    if not points:
+        return None
+    every = np.concatenate(points).astype(np.float64)
+    size = float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
+    return BOX_LIMIT * size if size > 0 else None
+
+
 def scene_figure(data: ReportData):
     """The 3-D view: one geometry trace per link, boxes and CoMs per source."""
     import plotly.graph_objects as go
 
     fig = go.Figure()
+    limit = _box_limit(data)
     by_link: dict[str, list] = {}
     for m in data.scene.meshes:
         by_link.setdefault(m.link, []).append(m)
@@ -130,7 +150,8 @@ def scene_figure(data: ReportData):
         offsets = np.cumsum([0] + [len(m.vertices) for m in items[:-1]])
         v = np.concatenate([m.vertices for m in items])
         f = np.concatenate([m.faces + o for m, o in zip(items, offsets, strict=True)])
-        f = f.astype(np.int32)
+        # the smallest index type plotly.js reads: 2 bytes a corner for most links
+        f = f.astype(np.uint16 if len(v) <= np.iinfo(np.uint16).max else np.uint32)
         fig.add_trace(go.Mesh3d(
             x=v[:, 0], y=v[:, 1], z=v[:, 2], i=f[:, 0], j=f[:, 1], k=f[:, 2],
             name="geometry", legendgroup="geometry", showlegend=first,
@@ -143,21 +164,27 @@ def scene_figure(data: ReportData):
         if not boxes:
             continue
         corners, faces, text = [], [], []
+        drawn = []
         for n, b in enumerate(boxes):
+            flag = "<br>triangle inequality broken: a side clipped to 0" if b.clipped else ""
+            sides = " x ".join(f"{x * 1000:.4g}" for x in b.lengths)
+            if limit is not None and np.any(b.lengths > limit):
+                # a box larger than the robot would hide it: drawn cut to the robot's size
+                b = dataclasses.replace(b, lengths=np.minimum(b.lengths, limit))
+                flag += f"<br>drawn cut to {limit * 1000:.4g} mm (larger than the robot)"
+            drawn.append(b)
             c, f = b.triangles()
             corners.append(c)
             faces.append(f + 8 * n)
-            flag = "<br>triangle inequality broken: a side clipped to 0" if b.clipped else ""
-            sides = " x ".join(f"{x * 1000:.4g}" for x in b.lengths)
             text += [f"{_plain(b.link)}<br>{b.mass:.4g} kg, box {sides} mm{flag}"] * 8
         c, f = np.concatenate(corners), np.concatenate(faces)
         fig.add_trace(go.Mesh3d(
             x=c[:, 0], y=c[:, 1], z=c[:, 2], i=f[:, 0], j=f[:, 1], k=f[:, 2],
             name=f"{source} inertia boxes", legendgroup=source, showlegend=True,
-            color=COLORS[source], opacity=0.25, flatshading=True, hovertext=text,
+            color=COLORS[source], opacity=BOX_OPACITY, flatshading=True, hovertext=text,
             hovertemplate=f"%{{hovertext}}<extra>{source}</extra>",
         ))
-        edges = np.concatenate([b.edge_polyline() for b in boxes])
+        edges = np.concatenate([b.edge_polyline() for b in drawn])
         fig.add_trace(go.Scatter3d(
             x=edges[:, 0], y=edges[:, 1], z=edges[:, 2], mode="lines",
             name=f"{source} box edges", legendgroup=source, showlegend=False,
@@ -321,11 +348,18 @@ def _notes_cell(row: LinkRow) -> str:
     return "<br>".join(html.escape(n) for n in notes)
 
 
+#: Share of the page width of each column of the link table (percent): fixed, so the
+#: table never scrolls sideways; long words and number lists wrap inside their cells.
+COLUMN_WIDTHS = (9, 13, 9, 13, 14, 13, 14, 15)
+
+
 def table_html(rows: Sequence[LinkRow]) -> str:
     head = ("link", "geometry used", "mass kg", "CoM m (link frame)",
             "principal moments kg m²", "errors (compare)", "check findings",
             "mass source, repairs, fallbacks")
-    out = ['<table id="links"><thead><tr>']
+    out = ['<table id="links"><colgroup>']
+    out += [f'<col style="width:{w}%">' for w in COLUMN_WIDTHS]
+    out.append("</colgroup><thead><tr>")
     out += [f"<th>{h}</th>" for h in head]
     out.append("</tr></thead><tbody>")
     for row in rows:
@@ -346,12 +380,12 @@ _CSS = """
 body{font-family:system-ui,sans-serif;margin:1.5em;color:#202124}
 h1{font-size:1.5em;margin-bottom:.2em} h2{font-size:1.2em;margin-top:1.5em}
 .meta{color:#5f6368;font-size:.9em}
-table{border-collapse:collapse;font-size:.82em;width:100%}
-th,td{border:1px solid #dadce0;padding:3px 6px;vertical-align:top;text-align:left}
+table{border-collapse:collapse;font-size:.82em;width:100%;table-layout:fixed}
+th,td{border:1px solid #dadce0;padding:3px 6px;vertical-align:top;text-align:left;
+overflow-wrap:anywhere}
 th{background:#f1f3f4;position:sticky;top:0}
-td.num{font-family:ui-monospace,monospace;white-space:nowrap}
+td.num{font-family:ui-monospace,monospace;font-size:.95em}
 td.name{font-weight:600}
-td.wide{min-width:15em}
 .e{color:#e8710a;font-weight:700} .r{color:#1a73e8;font-weight:700}
 .bad{color:#c5221f}
 .v,.s{border-radius:3px;padding:0 4px;font-weight:600;background:#e8eaed}
@@ -391,29 +425,61 @@ def _plot_div(div_id: str, fig) -> str:
             f'style="height:{int(fig.layout.height or 500)}px;width:100%"></div>')
 
 
-def _plots_script(figures: dict) -> str:
-    """plotly.js (inlined) and the code that draws ``figures`` (div id -> figure).
+def _plotly_loader() -> str:
+    """A script that defines ``window.urdfInertiaPlotly``: a promise of plotly.js loaded.
 
-    It goes at the end of the page so that the text and the table show before the 4.8 MB
-    of plotly.js are parsed. Each finished plot increments ``window.urdfInertiaRendered``
+    plotly.js (4.8 MB) is inlined gzip-compressed and base64-encoded (2 MB) and unpacked
+    by the browser's ``DecompressionStream``: the page stays one self-contained file,
+    less than half the size. Its licence header stays readable at the top.
+    """
+    import base64
+    import gzip
+
+    from plotly.offline import get_plotlyjs
+
+    source = get_plotlyjs()
+    end = source.find("*/")
+    header = source[:end + 2] if source.startswith("/**") and end > 0 else ""
+    packed = base64.b64encode(gzip.compress(source.encode("utf-8"), 9, mtime=0)).decode()
+    return (f'<script type="text/javascript">{header}\n'
+            "window.urdfInertiaPlotly = (function () {\n"
+            f'  var text = atob("{packed}");\n'
+            "  var bytes = new Uint8Array(text.length);\n"
+            "  for (var i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);\n"
+            "  var plain = new Blob([bytes]).stream()"
+            '.pipeThrough(new DecompressionStream("gzip"));\n'
+            "  return new Response(plain).text().then(function (js) {\n"
+            '    var el = document.createElement("script");\n'
+            "    el.text = js;\n"
+            "    document.head.appendChild(el);\n"
+            "  });\n"
+            "})();</script>")
+
+
+def _plots_script(figures: dict) -> str:
+    """plotly.js (inlined, :func:`_plotly_loader`) and the code that draws ``figures``
+    (div id -> figure).
+
+    It goes at the end of the page so that the text and the table show before plotly.js
+    is unpacked and parsed. Each finished plot increments ``window.urdfInertiaRendered``
     (tests and scripts/bench_report.py wait for it to reach ``body[data-figures]``).
     """
     import plotly.io as pio
-    from plotly.offline import get_plotlyjs
 
     # JSON holds "<" only inside strings, where \u003c means the same: no "</script>".
     specs = ",".join(f"{json.dumps(k)}:{pio.to_json(f, validate=False)}"
                      for k, f in figures.items()).replace("<", "\\u003c")
     config = json.dumps(PLOTLY_CONFIG)
-    return (f'<script type="text/javascript">{get_plotlyjs()}</script>\n'
+    return (_plotly_loader() + "\n"
             '<script type="text/javascript">(function () {\n'
             f"var figures = {{{specs}}};\nvar config = {config};\n"
+            "window.urdfInertiaPlotly.then(function () {\n"
             "Object.keys(figures).forEach(function (id) {\n"
             "  Plotly.newPlot(id, figures[id].data, figures[id].layout, config)"
             ".then(function () {\n"
             "    window.urdfInertiaRendered = (window.urdfInertiaRendered || 0) + 1;\n"
             "    window.urdfInertiaRenderedAt = performance.now();\n"
-            "  });\n});\n})();</script>")
+            "  });\n});\n});\n})();</script>")
 
 
 def render_html(data: ReportData) -> str:

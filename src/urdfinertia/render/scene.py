@@ -34,10 +34,10 @@ from urdfinertia.descriptions.model import (
 )
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.mesh.read.load import load_mesh
 
-#: Default face budget of the whole 3-D view (about 16 bytes per face in the HTML).
-DEFAULT_VIEW_FACES = 150_000
+#: Default face budget of the whole 3-D view (about 24 bytes per face in the HTML: 16 for
+#: the base64 indices, 16 per vertex, about half a vertex per face once unused ones go).
+DEFAULT_VIEW_FACES = 100_000
 #: No displayed mesh is decimated below this many faces, whatever the budget.
 MIN_FACES_PER_MESH = 200
 VIEW_MODES = ("visual", "collision")
@@ -170,19 +170,33 @@ def decimate(vertices: np.ndarray, faces: np.ndarray, max_faces: int,
     spaced subset of the faces (holes, but the shape stays recognisable).
     """
     if len(faces) <= max_faces:
-        return vertices, faces, "as is"
+        return (*used_only(vertices, faces), "as is")
     import trimesh
 
     try:
         mesh = trimesh.Trimesh(vertices, faces, process=True)  # merges duplicate vertices
         small = mesh.simplify_quadric_decimation(face_count=max_faces)
         if 0 < len(small.faces) <= 1.5 * max_faces:
-            return (np.asarray(small.vertices), np.asarray(small.faces),
+            return (*used_only(np.asarray(small.vertices), np.asarray(small.faces)),
                     "quadric decimation")
     except Exception:  # missing fast-simplification or a mesh it cannot handle
         pass
     keep = np.linspace(0, len(faces) - 1, max_faces).astype(np.int64)
-    return vertices, faces[keep], "face subset (decimation unavailable)"
+    return (*used_only(vertices, faces[keep]), "face subset (decimation unavailable)")
+
+
+def used_only(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct vertices ``faces`` use and the faces renumbered into them, for display.
+
+    A mesh file's other vertices (other objects, points, a decimation's leftovers) and
+    repeated copies of one position (a triangle soup such as STL) would only make the page
+    bigger: positions equal in float32, the precision drawn, are one vertex.
+    """
+    faces = np.asarray(faces, dtype=np.int64)
+    points = np.ascontiguousarray(np.asarray(vertices, dtype=np.float32)[faces.reshape(-1)])
+    rows = points.view(np.dtype((np.void, points.dtype.itemsize * 3))).reshape(-1)
+    _, first, inverse = np.unique(rows, return_index=True, return_inverse=True)
+    return np.asarray(vertices)[faces.reshape(-1)[first]], inverse.reshape(faces.shape)
 
 
 def primitive_triangles(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
@@ -236,9 +250,8 @@ def build_scene(robot: Robot, meshes: MeshLibrary, *, view: str = "visual",
             try:
                 path = meshes.resolve(shape.filename, urdf_dir).resolve()
                 if path not in memo:
-                    tri = load_mesh(path, meshes.max_faces)
-                    v, f, method = decimate(tri.vertices, tri.faces, cap)
-                    memo[path] = (v, f, len(tri.faces), method)
+                    v, f, n_faces, method = meshes.display(path, cap, decimate)
+                    memo[path] = (v, f, n_faces, method)
             except UrdfInertiaError as exc:
                 notes.append(f"link '{link.name}' {ref.label}: not drawn ({exc.cause})")
                 continue

@@ -40,7 +40,8 @@ from urdfinertia.inertia.polyhedron import face_volumes
 from urdfinertia.mesh.repair.graph import boundary_edges
 from urdfinertia.mesh.repair.level_caps import level_caps, level_caps_points
 from urdfinertia.mesh.repair.loops import boundary_cycles, ordered_cycles
-from urdfinertia.mesh.repair.winding import closed_winding_numbers, winding_numbers
+from urdfinertia.mesh.repair.winding import RayCounter, winding_numbers
+from urdfinertia.timing import Deadline
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,6 +87,13 @@ class HoleCaps:
     def loops(self) -> int:
         return len(self.vertex)
 
+    def widened(self) -> HoleCaps:
+        """These caps (fans) with ``dependence`` added to each uncertainty: what a refined
+        cap, not computed, might have moved the volume (a spherical cap at the rim angle).
+        """
+        return HoleCaps(self.vertex, self.area, self.uncertainty + self.dependence,
+                        self.planar, self.level, self.dependence)
+
 
 #: A loop is planar when no vertex leaves its plane by more than this fraction of its size.
 PLANAR_RTOL = 1e-9
@@ -122,7 +130,7 @@ LEVEL_MIN_GAIN = 1e-3
 
 
 def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = True,
-                ) -> tuple[np.ndarray, np.ndarray, HoleCaps]:
+                deadline: Deadline | None = None) -> tuple[np.ndarray, np.ndarray, HoleCaps]:
     """Cap every boundary loop of an oriented surface (see the module docstring).
 
     Parameters
@@ -132,6 +140,13 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
         Consistently oriented.
     triangulate : bool
         False caps every loop with a fan only: cheaper, for a first look at the volume.
+    deadline : Deadline, optional
+        Checked between the steps of triangulations, votes and level caps.
+
+    Raises
+    ------
+    OverBudget
+        ``deadline`` expired (the caller falls back to ``triangulate=False``).
 
     Returns
     -------
@@ -168,7 +183,8 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     flat = three | (depth <= PLANAR_RTOL * np.maximum(diameter, 1e-300))
 
     empty = np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
-    tri_f, tri_loop = (_triangulations(vertices, edges, succ, loop, rim_normal)
+    deadline = deadline if deadline is not None else Deadline(None)
+    tri_f, tri_loop = (_triangulations(vertices, edges, succ, loop, rim_normal, deadline)
                        if triangulate else empty)
     has_tri = np.zeros(n_loops, dtype=bool)
     has_tri[tri_loop] = True
@@ -180,7 +196,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     if long_tri.any():
         ids = np.flatnonzero(long_tri)
         refuted = _winding_refutes(fan_v, faces, fan_f, fan_loop, tri_f, tri_loop,
-                                   ids[np.argsort(loop_size[ids], kind="stable")])
+                                   ids[np.argsort(loop_size[ids], kind="stable")], deadline)
         has_tri[refuted] = False
         tri_f, tri_loop = tri_f[has_tri[tri_loop]], tri_loop[has_tri[tri_loop]]
     wide = triangulate & ~has_tri & ~flat  # loops that get a level cap as a candidate
@@ -193,7 +209,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
                    for ids, order in ordered_cycles(succ, loop, len(edges))
                    for i, row in zip(ids, order, strict=True) if wide[i]]
         lev = level_caps(len(fan_v), corners, centre, normal, fan_v,
-                         np.concatenate([faces, fan_f]), fan_f, fan_loop)
+                         np.concatenate([faces, fan_f]), fan_f, fan_loop, deadline)
         all_v = np.concatenate([fan_v, lev.vertices])
         lev_f, lev_loop = lev.faces, lev.loop
     else:
@@ -251,7 +267,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
 
 def _winding_refutes(vertices: np.ndarray, faces: np.ndarray, fan_f: np.ndarray,
                      fan_loop: np.ndarray, tri_f: np.ndarray, tri_loop: np.ndarray,
-                     loops: np.ndarray) -> np.ndarray:
+                     loops: np.ndarray, deadline: Deadline) -> np.ndarray:
     """The loops among ``loops`` whose triangulation the winding numbers refute.
 
     Per loop, points on a ``VOTE_GRID``^3 grid over its bounding box (both caps lie in
@@ -269,13 +285,15 @@ def _winding_refutes(vertices: np.ndarray, faces: np.ndarray, fan_f: np.ndarray,
     afford = max(0, int(VOTE_BUDGET // (VOTE_GRID ** 3 * len(closed))))
     refuted = [int(k) for k in loops[afford:]]
     frac = (np.arange(VOTE_GRID) + 0.5) / VOTE_GRID
+    counter = RayCounter(vertices, closed)  # one grid for every vote
     for k in loops[:afford].tolist():  # one vote per long loop
+        deadline.check()
         fan_tri = vertices[fan_f[fan_loop == k]].reshape(-1, 3)
         tri_tri = vertices[tri_f[tri_loop == k]].reshape(-1, 3)
         lo, hi = tri_tri.min(axis=0), tri_tri.max(axis=0)
         grid = np.stack(np.meshgrid(*(lo[i] + frac * (hi[i] - lo[i]) for i in range(3)),
                                     indexing="ij"), axis=-1).reshape(-1, 3)
-        w_fanned = closed_winding_numbers(grid, vertices, closed, exact_on_graze=False)
+        w_fanned = counter(grid, exact_on_graze=False)
         own = np.arange(len(fan_tri)).reshape(-1, 3)
         w_open = w_fanned - winding_numbers(grid, fan_tri, own)
         w_tri = w_open + winding_numbers(grid, tri_tri, np.arange(len(tri_tri)).reshape(-1, 3))
@@ -324,7 +342,8 @@ def _loop_volumes(vertices: np.ndarray, caps: np.ndarray, loop: np.ndarray, n_lo
 
 
 def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
-                    loop: np.ndarray, rim_normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                    loop: np.ndarray, rim_normal: np.ndarray, deadline: Deadline,
+                    ) -> tuple[np.ndarray, np.ndarray]:
     """Best triangulation of each loop of 4..TRIANGULATE_MAX edges, the loops of more
     than ``PLAN_CACHE_MAX`` edges smallest first within ``WIDE_TRIANGULATION_BUDGET``.
 
@@ -344,6 +363,7 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
                 break
             ids, order = ids[:afford], order[:afford]
             budget -= afford * s ** 3 / 6
+        deadline.check()
         corners = edges[order, 0]  # (L, s) vertex indices in boundary order
         tris = _best_triangulation(vertices[corners], rim_normal[order])
         faces_out.append(np.take_along_axis(corners[:, None, :].repeat(s - 2, axis=1),

@@ -1,6 +1,6 @@
 """Caps through the half level set of an open surface's generalized winding number.
 
-Pure numpy. The generalized winding number ``w`` of an open surface (Jacobson et al.
+The generalized winding number ``w`` of an open surface (Jacobson et al.
 2013) is 1 deep inside and 0 far outside, and varies smoothly across a hole; its level
 set ``w = 1/2`` spans the hole without depending on how the hole's rim is triangulated.
 For a planar hole it is the flat cap exactly (the cap subtends half the sphere from any
@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from urdfinertia.mesh.repair.winding import closed_winding_numbers, winding_numbers
+from urdfinertia.mesh.repair.winding import RayCounter, winding_numbers
+from urdfinertia.timing import Deadline
 
 #: Rings of a level cap, counting the loop itself; the apex is added.
 RINGS = 4
@@ -67,7 +68,8 @@ def level_caps_points(sizes: np.ndarray) -> int:
 
 def level_caps(n: int, corners: list[tuple[int, np.ndarray]], centre: np.ndarray,
                normal: np.ndarray, closed_vertices: np.ndarray, closed_faces: np.ndarray,
-               fan_faces: np.ndarray, fan_loop: np.ndarray) -> LevelCaps:
+               fan_faces: np.ndarray, fan_loop: np.ndarray,
+               deadline: Deadline | None = None) -> LevelCaps:
     """Level caps of the loops in ``corners``.
 
     Parameters
@@ -83,6 +85,8 @@ def level_caps(n: int, corners: list[tuple[int, np.ndarray]], centre: np.ndarray
         integers, counted along rays).
     fan_faces : (f, 3) int
         The fans, indexing ``closed_vertices``; ``fan_loop`` gives each one's loop.
+    deadline : Deadline, optional
+        Checked before every search step (raises :class:`OverBudget`).
     """
     points, owner, starts = [], [], [0]
     frac = np.arange(1, RINGS) / RINGS  # inner rings, innermost first
@@ -97,7 +101,8 @@ def level_caps(n: int, corners: list[tuple[int, np.ndarray]], centre: np.ndarray
     q = np.concatenate(points)
     lid = np.concatenate(owner)
     t = _level_offsets(q, lid, corners, centre, normal, closed_vertices,
-                              closed_faces, fan_faces, fan_loop)
+                       closed_faces, fan_faces, fan_loop,
+                       deadline if deadline is not None else Deadline(None))
     q = q + t[:, None] * normal[lid]
     faces, loops = [], []
     for k, (loop_id, ids) in enumerate(corners):
@@ -116,21 +121,23 @@ def level_caps(n: int, corners: list[tuple[int, np.ndarray]], centre: np.ndarray
 def _level_offsets(q: np.ndarray, lid: np.ndarray, corners: list[tuple[int, np.ndarray]],
                    centre: np.ndarray, normal: np.ndarray, closed_vertices: np.ndarray,
                    closed_faces: np.ndarray, fan_faces: np.ndarray, fan_loop: np.ndarray,
-                   ) -> np.ndarray:
+                   deadline: Deadline) -> np.ndarray:
     """Offset of each point along its loop's normal to ``w = 1/2`` (0 where not found)."""
     radius = np.zeros(len(centre))
     for loop_id, ids in corners:
         radius[loop_id] = np.linalg.norm(closed_vertices[ids] - centre[loop_id], axis=1).max()
     r, nrm = radius[lid], normal[lid]
+    counter = RayCounter(closed_vertices, closed_faces)  # one grid for every step
     fans = [(loop_id, closed_vertices[fan_faces[fan_loop == loop_id]].reshape(-1, 3))
             for loop_id, _ in corners]
 
     def level(t: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
         """``w - 1/2`` of the open surface (other holes fan-capped) at offsets ``t``."""
+        deadline.check()
         sel = np.arange(len(q)) if rows is None else rows
         x = q[sel] + t[:, None] * nrm[sel]
         # a point the bisection drives onto a wall is rejected as a jump anyway
-        w = closed_winding_numbers(x, closed_vertices, closed_faces, exact_on_graze=False)
+        w = counter(x, exact_on_graze=False)
         for loop_id, corners_xyz in fans:  # remove this loop's own fan
             at = np.flatnonzero(lid[sel] == loop_id)
             if len(at):

@@ -28,6 +28,7 @@ import numpy as np
 
 from urdfinertia.errors import MeshError
 from urdfinertia.inertia.polyhedron import face_volumes, used_vertices
+from urdfinertia.mesh.limits import OVER_BUDGET_NOTE, mesh_seconds
 from urdfinertia.mesh.read.load import TriangleMesh
 from urdfinertia.mesh.repair.graph import (
     EdgeTable,
@@ -44,7 +45,7 @@ from urdfinertia.mesh.repair.holes import HoleCaps, cap_with_fans, close_holes
 from urdfinertia.mesh.repair.nesting import nest_signs, probe_point
 from urdfinertia.mesh.repair.stitch import stitch_seams
 from urdfinertia.mesh.repair.winding import closed_winding_numbers
-from urdfinertia.timing import StageTimes
+from urdfinertia.timing import Deadline, OverBudget, StageTimes
 
 #: Vertices closer than this fraction of the bounding-box diagonal are merged.
 WELD_RTOL = 1e-6
@@ -111,10 +112,14 @@ class _Shell:
     caps: HoleCaps
 
 
-def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> RepairedMesh:
+def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
+                seconds: float | None = -1.0) -> RepairedMesh:
     """Weld, orient, close, turn outward and unite the bodies of ``mesh``.
 
     ``timer``, when given, gets the time spent in boolean unions as stage ``"union"``.
+    ``seconds`` is the time the refined hole caps may take (default
+    :func:`~urdfinertia.mesh.limits.mesh_seconds`, None for no limit); past it the holes
+    are capped with fans, the stated error widened and a note says so.
 
     Raises
     ------
@@ -144,23 +149,24 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> Repaired
         raise MeshError("mesh has no non-degenerate triangles: it encloses no volume",
                         code="no-volume")
     timer = timer if timer is not None else StageTimes()
+    deadline = Deadline(mesh_seconds() if seconds is not None and seconds < 0 else seconds)
     welded = "welded" if notes else "closed as given"
     stitch = stitch_seams(vertices, faces, size)
     if stitch is None:
-        return _close_up(vertices, faces, notes, timer, welded)
+        return _close_up(vertices, faces, notes, timer, deadline, welded)
     stitched_faces = drop_degenerate(stitch.vertices, stitch.faces, (1e-12 * size) ** 2)
     stitched_faces, _, _ = cancel_duplicate_faces(stitched_faces)
     try:
         stitched = _close_up(stitch.vertices, stitched_faces, notes + [stitch.note()], timer,
-                             stitch.provenance(), stitch.uncertainty)
+                             deadline, stitch.provenance(), stitch.uncertainty)
     except MeshError:
-        return _close_up(vertices, faces, notes, timer, welded)
+        return _close_up(vertices, faces, notes, timer, deadline, welded)
     if not stitch.ambiguous:
         return stitched
     # some rims stayed open or an edge now has three faces: the stitch may have joined
     # what it should not have; keep whichever repair states the smaller uncertainty
     try:
-        plain = _close_up(vertices, faces, notes, timer, welded)
+        plain = _close_up(vertices, faces, notes, timer, deadline, welded)
     except MeshError:
         return stitched
     return plain if _stated_error(plain) < _stated_error(stitched) else stitched
@@ -174,8 +180,11 @@ def _stated_error(repaired: RepairedMesh) -> float:
 
 
 def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str], timer: StageTimes,
-              origin: str, stitch_uncertainty: float = 0.0) -> RepairedMesh:
+              deadline: Deadline, origin: str, stitch_uncertainty: float = 0.0,
+              ) -> RepairedMesh:
     """Orient, cap, turn outward, group and unite welded faces (stages 2-6).
+
+    Past ``deadline`` the holes are capped with fans (:meth:`HoleCaps.widened`).
 
     ``origin`` says how the surface was obtained before capping ("closed as given",
     "welded", "stitched"); ``stitch_uncertainty`` (m^3) is what stitching may have
@@ -195,7 +204,14 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str], timer: 
     if known is not None:  # nothing to cap; turning whole shells keeps the components
         shells, flat = _split(vertices, oriented, HoleCaps.none(), known, measures)
     else:
-        closed_v, closed_f, caps = close_holes(vertices, oriented)
+        try:
+            closed_v, closed_f, caps = close_holes(vertices, oriented, deadline=deadline)
+        except OverBudget:
+            closed_v, closed_f, caps = close_holes(vertices, oriented, triangulate=False)
+            caps = caps.widened()
+            notes.append(f"{OVER_BUDGET_NOTE} ({deadline.seconds:g} s): holes capped with "
+                         "fans only, stated error widened (--mesh-seconds raises it)")
+            origin = f"{origin}; fans only, over the {deadline.seconds:g} s repair budget"
         shells, flat = _split(closed_v, closed_f, caps)
     if flat:
         notes.append(f"ignored {flat} pieces enclosing no volume (flat or stray triangles)")

@@ -1,15 +1,19 @@
 """Generalized winding numbers of triangle surfaces (Jacobson et al. 2013).
 
-Pure numpy. The winding number of an oriented triangle surface at a point is the sum of
+The winding number of an oriented triangle surface at a point is the sum of
 the signed solid angles its triangles subtend there, divided by 4 pi: 1 inside and 0
 outside a closed outward surface, -1 inside an inverted one, and a smooth value between
 for an open surface. It decides whether one closed shell lies inside another (cavities,
-nested bodies) independently of how the mesh is triangulated. For closed surfaces,
-:func:`closed_winding_numbers` gets the same integers by counting ray crossings, at a
-fraction of the cost, and falls back to the solid angles where a ray grazes an edge.
+nested bodies) independently of how the mesh is triangulated. :func:`winding_numbers`
+is libigl's compiled sum; :func:`solid_angle_winding_numbers` the plain numpy one it is
+tested against. For closed surfaces, :func:`closed_winding_numbers` gets the same
+integers by counting ray crossings, at a fraction of the cost, and falls back to the
+solid angles where a ray grazes an edge.
 """
 
 from __future__ import annotations
+
+from collections.abc import Iterator
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -55,6 +59,10 @@ def solid_angles(points: ArrayLike, triangles: ArrayLike) -> np.ndarray:
 def winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayLike) -> np.ndarray:
     """Generalized winding number of the surface ``(vertices, faces)`` at each point.
 
+    Computed by libigl (``igl.winding_number``: the same sum of solid angles, over a
+    bounding-volume hierarchy that replaces a far cluster by its boundary's closure).
+    :func:`solid_angles` is the plain numpy sum it agrees with, to round-off.
+
     Parameters
     ----------
     points : (p, 3) float
@@ -64,6 +72,22 @@ def winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayLike) ->
     Returns
     -------
     (p,) float
+    """
+    pts = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+    v = np.ascontiguousarray(vertices, dtype=np.float64)
+    f = np.ascontiguousarray(faces, dtype=np.int64).reshape(-1, 3)
+    if len(pts) == 0 or len(f) == 0:
+        return np.zeros(len(pts))
+    import igl
+
+    return np.asarray(igl.winding_number(v, f, pts), dtype=np.float64)
+
+
+def solid_angle_winding_numbers(points: ArrayLike, vertices: ArrayLike,
+                                faces: ArrayLike) -> np.ndarray:
+    """:func:`winding_numbers` as a plain sum of :func:`solid_angles` (pure numpy).
+
+    Quadratic in points x faces: the reference the compiled one is tested against.
     """
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     tri = np.asarray(vertices, dtype=np.float64)[np.asarray(faces, dtype=np.int64)]
@@ -89,10 +113,11 @@ def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayL
     number at a point off the surface is the integer :func:`winding_numbers` computes,
     and also the signed count of crossings of any ray from the point: +1 where the ray
     leaves through a face whose normal points along it, -1 where it enters. Counting
-    along ``RAY`` needs only the few faces whose bounding box the ray meets and no
-    transcendental functions; an oblique ray rarely grazes the edges of CAD models, whose
-    faces often lie parallel to the axes. A point whose ray grazes an edge or vertex, or which lies
-    on a face, within ``RAY_RTOL``, is evaluated with :func:`winding_numbers` instead.
+    along ``RAY`` needs only the few faces whose bounding box the ray meets (found through
+    a grid across the ray, :class:`RayCounter`) and no transcendental functions; an
+    oblique ray rarely grazes the edges of CAD models, whose faces often lie parallel to
+    the axes. A point whose ray grazes an edge or vertex, or which lies on a face, within
+    ``RAY_RTOL``, is evaluated with :func:`winding_numbers` instead.
 
     Parameters
     ----------
@@ -110,57 +135,166 @@ def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayL
     (p,) float
         Integers, except at points handed to :func:`winding_numbers`.
     """
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    v = np.asarray(vertices, dtype=np.float64)
-    f = np.asarray(faces, dtype=np.int64)
-    out = np.zeros(len(pts))
-    if len(f) == 0 or len(pts) == 0:
+    return RayCounter(vertices, faces)(points, exact_on_graze)
+
+
+class RayCounter:
+    """:func:`closed_winding_numbers` of one closed surface, for many calls.
+
+    The surface is turned once into the ray's frame and its faces binned once on a grid
+    across the ray (the faces' boxes, widened by the grazing slack, over the cells they
+    cover); each call then tests a point only against the faces of its cell. The pairs
+    tested are a superset of those whose boxes the ray meets, and each pair is decided by
+    the same arithmetic as a test against every face, so the counts are the same.
+    """
+
+    def __init__(self, vertices: ArrayLike, faces: ArrayLike) -> None:
+        self.vertices = np.asarray(vertices, dtype=np.float64)
+        self.faces = np.asarray(faces, dtype=np.int64)
+        v, f = self.vertices, self.faces
+        if len(f) == 0:
+            return
+        # coordinates along the ray (x) and across it (y, z): a rotation, so each vertex
+        # keeps one position and the surface stays closed
+        used = np.zeros(len(v), dtype=bool)
+        used[f.reshape(-1)] = True
+        rotated = np.zeros_like(v)
+        rotated[used] = v[used] @ _RAY_FRAME.T
+        self.tri = tri = rotated[f]
+        # elementwise over the corners: numpy's reduction along a length-3 axis is slow
+        self.lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
+        self.hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
+        self._grid_cache: tuple[float, tuple[np.ndarray, ...]] | None = None
+
+    def __call__(self, points: ArrayLike, exact_on_graze: bool = True) -> np.ndarray:
+        pts_all = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        out = np.zeros(len(pts_all))
+        if len(self.faces) == 0 or len(pts_all) == 0:
+            return out
+        pts = pts_all @ _RAY_FRAME.T
+        lo, hi, tri = self.lo, self.hi, self.tri
+        scale = float(np.linalg.norm(np.maximum(hi.max(axis=0), pts.max(axis=0))
+                                     - np.minimum(lo.min(axis=0), pts.min(axis=0))))
+        slack = RAY_RTOL * scale
+        unsure = np.zeros(len(pts), dtype=bool)
+        for first, last, pi, ti in self._pairs(pts, slack):
+            p = pts[first:last]
+            rel = tri[ti] - p[pi, None, :]  # (k, 3 corners, 3)
+            y, z = rel[:, :, 1], rel[:, :, 2]
+            nxt = [1, 2, 0]
+            prv = [2, 0, 1]
+            # twice the signed yz-area of (point, corner k+1, corner k+2): corner k's weight
+            e = y[:, nxt] * z[:, prv] - z[:, nxt] * y[:, prv]
+            r = np.hypot(y, z)
+            tol = RAY_RTOL * r[:, nxt] * r[:, prv]
+            pos, neg = e > tol, e < -tol
+            strict = np.all(pos, axis=1) | np.all(neg, axis=1)
+            apart = np.any(pos, axis=1) & np.any(neg, axis=1)
+            area = e.sum(axis=1)  # twice the signed yz-area: the x component of the normal
+            dx = np.einsum("kc,kc->k", e, rel[:, :, 0]) / np.where(strict, area, 1.0)
+            hit = strict & (dx > slack)
+            graze = (~strict & ~apart) | (strict & (np.abs(dx) <= slack))
+            out[first:last] = np.bincount(pi[hit], weights=np.sign(area[hit]),
+                                          minlength=len(p))
+            unsure[first:last] = np.bincount(pi[graze], minlength=len(p)) > 0
+        if exact_on_graze and unsure.any():
+            out[unsure] = winding_numbers(pts_all[unsure], self.vertices, self.faces)
         return out
-    # coordinates along the ray (x) and across it (y, z): a rotation, so each vertex
-    # keeps one position and the surface stays closed
-    used = np.zeros(len(v), dtype=bool)
-    used[f.reshape(-1)] = True
-    rotated = np.zeros_like(v)
-    rotated[used] = v[used] @ _RAY_FRAME.T
-    tri = rotated[f]
-    pts_all, pts = pts, pts @ _RAY_FRAME.T
-    # elementwise over the corners: numpy's reduction along a length-3 axis is slow
-    lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
-    hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
-    scale = float(np.linalg.norm(np.maximum(hi.max(axis=0), pts.max(axis=0))
-                                 - np.minimum(lo.min(axis=0), pts.min(axis=0))))
-    slack = RAY_RTOL * scale
-    unsure = np.zeros(len(pts), dtype=bool)
-    step = max(1, 8 * CHUNK // len(tri))
-    for start in range(0, len(pts), step):  # chunks of points, vectorised over faces
-        p = pts[start:start + step]
-        near = ((lo[None, :, 1] <= p[:, None, 1] + slack)
-                & (hi[None, :, 1] >= p[:, None, 1] - slack)
-                & (lo[None, :, 2] <= p[:, None, 2] + slack)
-                & (hi[None, :, 2] >= p[:, None, 2] - slack)
-                & (hi[None, :, 0] >= p[:, None, 0] - slack))
-        pi, ti = np.nonzero(near)
-        rel = tri[ti] - p[pi, None, :]  # (k, 3 corners, 3)
-        y, z = rel[:, :, 1], rel[:, :, 2]
-        nxt = [1, 2, 0]
-        prv = [2, 0, 1]
-        # twice the signed yz-area of (point, corner k+1, corner k+2): corner k's weight
-        e = y[:, nxt] * z[:, prv] - z[:, nxt] * y[:, prv]
-        r = np.hypot(y, z)
-        tol = RAY_RTOL * r[:, nxt] * r[:, prv]
-        pos, neg = e > tol, e < -tol
-        strict = np.all(pos, axis=1) | np.all(neg, axis=1)
-        apart = np.any(pos, axis=1) & np.any(neg, axis=1)
-        area = e.sum(axis=1)  # twice the signed yz-area: the x component of the normal
-        dx = np.einsum("kc,kc->k", e, rel[:, :, 0]) / np.where(strict, area, 1.0)
-        hit = strict & (dx > slack)
-        graze = (~strict & ~apart) | (strict & (np.abs(dx) <= slack))
-        out[start:start + len(p)] = np.bincount(pi[hit], weights=np.sign(area[hit]),
-                                                minlength=len(p))
-        unsure[start:start + len(p)] = np.bincount(pi[graze], minlength=len(p)) > 0
-    if exact_on_graze and unsure.any():
-        out[unsure] = winding_numbers(pts_all[unsure], v, f)
-    return out
+
+    def _pairs(self, pts: np.ndarray, slack: float,
+               ) -> Iterator[tuple[int, int, np.ndarray, np.ndarray]]:
+        """Chunks ``(first, last, point, face)`` of the pairs whose boxes the rays meet.
+
+        Points ``first:last`` of a chunk, ``point`` indexing into the chunk. From the
+        grid's candidates, or from every face where the grid would hand each point a
+        large share of them anyway (long faces across the ray): the plain test is then
+        cheaper per pair.
+        """
+        lo, hi = self.lo, self.hi
+
+        def near(p: np.ndarray, f_lo: np.ndarray, f_hi: np.ndarray) -> np.ndarray:
+            """Whether each point's ray meets each face's box (broadcast shapes)."""
+            return ((f_lo[..., 1] <= p[..., 1] + slack) & (f_hi[..., 1] >= p[..., 1] - slack)
+                    & (f_lo[..., 2] <= p[..., 2] + slack) & (f_hi[..., 2] >= p[..., 2] - slack)
+                    & (f_hi[..., 0] >= p[..., 0] - slack))
+
+        n_all = None
+        if len(pts) > GRID_MIN_POINTS:
+            cell, start, count, order = self._grid(slack, pts)
+            n_all = count[cell]
+        if n_all is None or n_all.sum() > GRID_SHARE * len(pts) * len(lo):
+            step = max(1, 8 * CHUNK // len(lo))
+            for first in range(0, len(pts), step):  # chunks of points, vectorised over faces
+                p = pts[first:first + step]
+                pi, ti = np.nonzero(near(p[:, None], lo[None], hi[None]))
+                yield first, first + len(p), pi, ti
+            return
+        bounds = np.concatenate([[0], np.cumsum(n_all)])
+        first = 0
+        while first < len(pts):  # chunks of points holding ~8 CHUNK candidate pairs
+            last = int(np.searchsorted(bounds, bounds[first] + 8 * CHUNK, side="right")) - 1
+            last = min(max(last, first + 1), len(pts))
+            n = n_all[first:last]
+            pi = np.repeat(np.arange(last - first), n)
+            rank = np.arange(len(pi)) - np.repeat(np.cumsum(n) - n, n)
+            ti = order[np.repeat(start[cell[first:last]], n) + rank]
+            keep = near(pts[first:last][pi], lo[ti], hi[ti])
+            yield first, last, pi[keep], ti[keep]
+            first = last
+
+    def _grid(self, slack: float, pts: np.ndarray,
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Each point's cell, and per cell the start and count of its faces in ``order``.
+
+        A face is listed in every cell its yz-box, widened by at least ``slack``,
+        overlaps; points and faces beyond the grid fall in its edge cells, so a face
+        whose box may contain a point's yz is always listed in the point's cell. The grid
+        is kept for later calls whose slack is no wider.
+        """
+        if self._grid_cache is None or self._grid_cache[0] < slack:
+            self._grid_cache = (2.0 * slack, self._bins(2.0 * slack))
+        origin, h, side, start, count, order = self._grid_cache[1]
+        pc = np.clip(((pts[:, 1:] - origin) / h).astype(np.int64), 0, int(side) - 1)
+        return pc[:, 0] * int(side) + pc[:, 1], start, count, order
+
+    def _bins(self, slack: float) -> tuple[np.ndarray, ...]:
+        """The grid of :meth:`_grid`: origin, cell size, cells per side, and per cell the
+        start and count of its faces in ``order``."""
+        lo = self.lo[:, 1:] - slack
+        hi = self.hi[:, 1:] + slack
+        origin = lo.min(axis=0)
+        extent = float(np.max(hi.max(axis=0) - origin))
+        side = int(np.clip(np.sqrt(len(lo)), 1, GRID_MAX))
+        while True:  # coarser until the faces' copies stay few (long thin faces)
+            h = extent / side if extent > 0 else 1.0
+            a = np.clip(((lo - origin) / h).astype(np.int64), 0, side - 1)
+            b = np.clip(((hi - origin) / h).astype(np.int64), 0, side - 1)
+            span = b - a + 1
+            copies = span[:, 0] * span[:, 1]
+            if side == 1 or copies.sum() <= GRID_COPIES * len(lo):
+                break
+            side = max(1, side // 2)
+        face = np.repeat(np.arange(len(lo)), copies)
+        k = np.arange(len(face)) - np.repeat(np.cumsum(copies) - copies, copies)
+        sy = span[face, 0]
+        cy = a[face, 0] + k % sy
+        cz = a[face, 1] + k // sy
+        key = cy * side + cz
+        order = face[np.argsort(key, kind="stable")]
+        count = np.bincount(key, minlength=side * side)
+        start = np.cumsum(count) - count
+        return origin, np.asarray(h), np.asarray(side), start, count, order
+
+
+#: Fewest points for which the grid is built (fewer are tested against every face).
+GRID_MIN_POINTS = 64
+#: Most grid cells per axis across the ray (:class:`RayCounter`).
+GRID_MAX = 512
+#: Share of all point-face pairs beyond which the grid's candidates are not worth
+#: gathering (:meth:`RayCounter._pairs`).
+GRID_SHARE = 0.2
+#: Largest average number of cells a face may be listed in before the grid is coarsened.
+GRID_COPIES = 8
 
 
 def _ray_frame() -> np.ndarray:
