@@ -61,7 +61,8 @@ class DescriptionFormat:
 _FORMATS: dict[str, DescriptionFormat] = {}
 #: Modules that register the built-in formats when first imported.
 _BUILTIN = ("urdfinertia.descriptions.urdf", "urdfinertia.descriptions.xacro",
-            "urdfinertia.descriptions.mjcf", "urdfinertia.descriptions.sdf")
+            "urdfinertia.descriptions.mjcf", "urdfinertia.descriptions.sdf",
+            "urdfinertia.descriptions.usd")
 #: Bytes searched for the root element (comments and a DOCTYPE may come first).
 _SNIFF_BYTES = 1 << 16
 _PROLOG = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s+|<\?.*?\?>|<!--.*?-->|<![^>]*>)*", re.S)
