@@ -59,7 +59,16 @@ def valid_identifier(name: str) -> str:
 
 
 def read(path: Path, *, lenient: bool = False) -> UsdRobot:
+    """The robot of a USD asset. Strict (``fix``): a sublayer, reference or payload that
+    cannot be opened refuses the asset (its bodies would be read incomplete); lenient
+    (``check``): it is a problem of the document."""
     opened = open_stage(path)
+    if opened.missing and not lenient:
+        from urdfinertia.errors import UrdfError
+
+        raise UrdfError(f"layer {opened.missing[0]} cannot be opened"
+                        + (f" (and {len(opened.missing) - 1} more)"
+                           if len(opened.missing) > 1 else ""), file=path)
     return _Reader(opened, path, lenient).run()
 
 

@@ -53,9 +53,6 @@ class Opened:
     missing: tuple[str, ...]
 
 
-_LAYER_IN_MESSAGE = re.compile(r"@([^@]+)@")
-
-
 def open_stage(path: Path) -> Opened:
     """The composed stage of ``path`` with every payload loaded; refuses what USD cannot
     read with one line naming the layer."""
@@ -81,9 +78,9 @@ def open_stage(path: Path) -> Opened:
         except Tf.ErrorException as exc:
             raise UrdfError(f"USD cannot compose the stage: {_first_line(exc)}",
                             file=path) from None
-    if stage is None:
-        raise UrdfError(f"USD cannot compose the stage{diag.cause()}", file=path)
-    missing = _missing_layers(stage, path)
+        if stage is None:
+            raise UrdfError(f"USD cannot compose the stage{diag.cause()}", file=path)
+        missing = _missing_layers(stage, path)
     mpu = float(UsdGeom.GetStageMetersPerUnit(stage))
     kpu = float(UsdPhysics.GetStageKilogramsPerUnit(stage))
     if not (mpu > 0 and kpu > 0):
@@ -113,13 +110,19 @@ def _missing_layers(stage: Any, path: Path) -> tuple[str, ...]:
 
 def _short(real: str, path: Path) -> str:
     try:
-        return str(Path(real).relative_to(path.parent))
+        return str(Path(real).relative_to(path.resolve().parent))
     except ValueError:
         return real
 
 
+_TF_MESSAGE = re.compile(r" : '(.*)'\s*$", re.S)
+
+
 def _first_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split())
+    """The message of an OpenUSD error without its C++ location, on one line."""
+    raw = str(exc)
+    found = _TF_MESSAGE.search(raw)
+    text = " ".join((found.group(1) if found else raw).split())
     return text[:300]
 
 
@@ -132,6 +135,12 @@ class _Diagnostics:
         self.messages: list[str] = []
 
     def __enter__(self) -> _Diagnostics:
+        try:  # while it lives, USD's warnings are collected instead of printed
+            from pxr import UsdUtils
+
+            self._delegate: Any = UsdUtils.CoalescingDiagnosticDelegate()
+        except (ImportError, AttributeError):
+            self._delegate = None
         mark = getattr(self._tf, "Error", None)
         self._mark = mark.Mark() if mark is not None and hasattr(mark, "Mark") else None
         if self._mark is not None:
@@ -143,6 +152,7 @@ class _Diagnostics:
             for err in self._mark.GetErrors():
                 self.messages.append(" ".join(str(err.commentary).split()))
             self._mark.Clear()
+        self._delegate = None
 
     def cause(self) -> str:
         if self._mark is not None:
