@@ -56,6 +56,12 @@ class DescriptionFormat:
     #: (bytes, source folder, output folder) -> (bytes, references rewritten): relative
     #: mesh references made to resolve from the output's folder; None: nothing to do
     relocate: Callable[[bytes, Path, Path], tuple[bytes, int]] | None = None
+    #: path -> path: where ``fix`` writes when given neither ``-o`` nor ``--in-place`` (USD:
+    #: the override layer ``robot.inertia.usda`` beside the asset); None: standard output
+    default_output: Callable[[Path], Path] | None = None
+    #: (path, output bytes) -> None: ``--in-place`` for a format whose output is not the
+    #: input's new bytes (USD: the override's opinions authored into the root layer)
+    write_in_place: Callable[[Path, bytes], None] | None = None
 
 
 _FORMATS: dict[str, DescriptionFormat] = {}

@@ -61,7 +61,7 @@ def test_override_layer_keeps_the_stage_units_and_default_prim(tmp_path):
     text = fixed.output.decode()
     assert f"@./{root.name}@" in text
     assert "metersPerUnit = 1" in text and "defaultPrim" in text
-    assert "customLayerData" not in text  # the writer's own record is dropped
+    assert "urdfinertia = {" in text  # the record of which prim each link is
 
 
 def test_cli_writes_the_layer_elsewhere_with_its_sublayer_rewritten(tmp_path):
@@ -92,3 +92,33 @@ def test_in_place_authors_into_the_root_layer(tmp_path):
             got = after.link(r.name).inertial
             assert got is not None
             assert got.mass == pytest.approx(r.assembly.total.mass, rel=F32)
+
+
+def test_cli_fix_writes_the_override_layer_beside_the_asset_by_default(tmp_path):
+    root = copy("cartpole", tmp_path)
+    before = digest(root.parent)
+    done = subprocess.run([sys.executable, "-m", "urdfinertia", "fix", "-q", "--all",
+                           str(root)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    layer = override_path(root)
+    assert layer.name == "physics.inertia.usda"
+    assert done.stdout == ""  # written to the layer, not printed
+    after = digest(root.parent)
+    assert {p: h for p, h in after.items() if p != layer} == before
+    assert "over " in layer.read_text()
+
+
+def test_cli_fix_in_place_changes_only_the_root_layer(tmp_path):
+    root = copy("cartpole", tmp_path)
+    original = root.read_bytes()
+    before = digest(root.parent)
+    done = subprocess.run([sys.executable, "-m", "urdfinertia", "fix", "-q", "--all",
+                           "--in-place", str(root)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    after = digest(root.parent)
+    changed = {p for p in after if after[p] != before.get(p)}
+    assert changed == {root, root.with_name(root.name + ".bak")}
+    assert root.with_name(root.name + ".bak").read_bytes() == original
+    assert not override_path(root).exists()
+    text = root.read_text()
+    assert "physics:mass" in text and "urdfinertia = {" not in text

@@ -53,8 +53,20 @@ def _relocate(data: bytes, source: Path, output: Path) -> tuple[bytes, int]:
     return relocate(data, source, output)
 
 
+def _default_output(path: Path) -> Path:
+    from urdfinertia.descriptions.usd.write import override_path
+
+    return override_path(path)
+
+
+def _write_in_place(path: Path, output: bytes) -> None:
+    from urdfinertia.descriptions.usd.write import in_place
+
+    in_place(path, output)
+
+
 register_format(DescriptionFormat(
     name="usd", roots=(), suffixes=(".usd", ".usda", ".usdc", ".usdz"),
     read=_read, read_lenient=_read_lenient, patch=_patch, expand=_expand,
-    relocate=_relocate,
+    relocate=_relocate, default_output=_default_output, write_in_place=_write_in_place,
 ))

@@ -12,8 +12,8 @@ stage takes those from its root layer only.
 
 :func:`template` is the format's "expanded document": the override layer with no
 opinions yet, carrying in its ``customLayerData`` what :func:`patch` needs (the prim path
-of each link, the bodies with ``NewtonMassAPI``, the units); :func:`patch` fills it and
-drops that record.
+of each link, the bodies with ``NewtonMassAPI``, the units); :func:`patch` fills it. The
+record stays: it says which prim each link of the reports is.
 """
 
 from __future__ import annotations
@@ -75,13 +75,9 @@ def patch(data: bytes, new: Mapping[str, tuple[MassProperties, float]]) -> bytes
     record = dict(layer.customLayerData).get(_KEY)
     if record is None:
         raise UrdfError("not an override layer made by urdf-inertia")
+    if not new:
+        return data  # nothing recomputed: the layer is unchanged (``changed`` is False)
     author(layer, new, record)
-    custom = dict(layer.customLayerData)
-    custom.pop(_KEY, None)
-    if custom:
-        layer.customLayerData = custom
-    else:
-        layer.pseudoRoot.ClearInfo("customLayerData")
     return layer.ExportToString().encode()
 
 
@@ -187,6 +183,9 @@ def in_place(path: Path, override: bytes) -> None:
         if strong.pseudoRoot.HasInfo(key):
             strong.pseudoRoot.ClearInfo(key)
     strong.comment = ""
+    custom = dict(strong.customLayerData)
+    custom.pop(_KEY, None)
+    strong.customLayerData = custom
     UsdUtils.StitchLayers(strong, root)
     tmp = path.with_name(f".{path.stem}.urdfinertia-tmp{path.suffix}")
     try:
