@@ -85,3 +85,23 @@ def test_a_body_without_mass_is_said_to_be_computed_by_the_engine():
     assert any("engine computes mass, CoM and inertia" in n for n in torso.notes)
     # MuJoCo's geom density (ant.xml: 5) carried onto each collision
     assert {c.density for c in torso.collisions} == {5.0}
+
+
+@pytest.mark.parametrize("suffix", [".usdc", ".usd", ".usdz"])
+def test_binary_and_packaged_assets_read_as_the_text_ones(tmp_path, suffix):
+    from pxr import Usd, UsdUtils
+
+    flat = Usd.Stage.Open(str(asset("spirit40"))).Flatten()
+    target = tmp_path / f"spirit40{suffix}"
+    if suffix == ".usdz":
+        crate = tmp_path / "flat.usdc"
+        flat.Export(str(crate))
+        assert UsdUtils.CreateNewUsdzPackage(str(crate), str(target))
+    else:
+        flat.Export(str(target))
+    got, _ = read_description(target)
+    want, _ = read_description(asset("spirit40"))
+    assert [lk.name for lk in got.links] == [lk.name for lk in want.links]
+    for a, b in zip(got.links, want.links, strict=True):
+        assert a.inertial == b.inertial
+        assert len(a.collisions) == len(b.collisions)

@@ -38,7 +38,7 @@ def _expand(data: bytes, path: Path) -> bytes:
 
     found = read(path)
     return template(path, found.prim_paths, found.newton, found.meters_per_unit,
-                    found.kilograms_per_unit)
+                    found.kilograms_per_unit, found.instances)
 
 
 def _patch(data: bytes, new: NewInertials) -> bytes:

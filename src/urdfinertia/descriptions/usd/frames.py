@@ -22,7 +22,7 @@ __all__ = ["matrix_quat", "matrix_rpy", "quat_matrix", "rigid_and_scale", "to_nu
 AXIS_ROTATION = {
     "Z": np.eye(3),
     "X": np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]),  # Ry(+90 deg)
-    "Y": np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]),  # Rx(-90 deg)
+    "Y": np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]),  # Rx(-90 deg)
 }
 
 

@@ -50,6 +50,9 @@ class UsdRobot:
     newton: frozenset[str]  # links whose body has NewtonMassAPI applied
     meters_per_unit: float
     kilograms_per_unit: float
+    #: instance prims with bodies inside: opinions below an instance are ignored by
+    #: composition, so the override makes them not instanceable
+    instances: tuple[str, ...] = ()
 
 
 def valid_identifier(name: str) -> str:
@@ -109,8 +112,16 @@ class _Reader:
         robot = Robot(name=default.GetName() if default else self.path.stem,
                       links=tuple(links), joints=tuple(joints), path=self.path, format="usd",
                       problems=tuple(self.problems), notes=notes)
+        instances = []
+        for prim in body_paths:
+            up = prim
+            while up.IsInstanceProxy():
+                up = up.GetParent()
+            if up != prim:
+                instances.append(str(up.GetPath()))
         return UsdRobot(robot, {b.name: str(k) for k, b in bodies.items()},
-                        frozenset(newton), self.o.meters_per_unit, self.o.kilograms_per_unit)
+                        frozenset(newton), self.o.meters_per_unit, self.o.kilograms_per_unit,
+                        tuple(dict.fromkeys(instances)))
 
     @staticmethod
     def _names(body_prims: list[Any]) -> dict[Any, str]:

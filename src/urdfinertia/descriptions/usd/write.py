@@ -39,7 +39,7 @@ def override_path(path: Path) -> Path:
 
 
 def template(path: Path, prim_paths: Mapping[str, str], newton: frozenset[str],
-             mpu: float, kpu: float) -> bytes:
+             mpu: float, kpu: float, instances: tuple[str, ...] = ()) -> bytes:
     """The override layer of ``path`` without opinions (its sublayer relative to it)."""
     from pxr import Sdf, Vt
 
@@ -55,7 +55,8 @@ def template(path: Path, prim_paths: Mapping[str, str], newton: frozenset[str],
     layer.customLayerData = {_KEY: {
         "links": Vt.StringArray(names),
         "paths": Vt.StringArray([prim_paths[n] for n in names]),
-        "newton": Vt.StringArray(sorted(newton)), "metersPerUnit": float(mpu),
+        "newton": Vt.StringArray(sorted(newton)),
+        "instances": Vt.StringArray(list(instances)), "metersPerUnit": float(mpu),
         "kilogramsPerUnit": float(kpu)}}
     return layer.ExportToString().encode()
 
@@ -89,6 +90,11 @@ def author(layer: Any, new: Mapping[str, tuple[MassProperties, float]],
     paths = dict(zip(record["links"], record["paths"], strict=True))
     newton = set(record["newton"])
     mpu, kpu = float(record["metersPerUnit"]), float(record["kilogramsPerUnit"])
+    targets = [Sdf.Path(paths[name]) for name in new]
+    for instance in record.get("instances", ()):  # opinions below an instance are ignored
+        where = Sdf.Path(instance)
+        if any(t.HasPrefix(where) for t in targets):
+            Sdf.CreatePrimInLayer(layer, where).SetInfo("instanceable", False)
     for name, (mp, size) in new.items():
         spec = Sdf.CreatePrimInLayer(layer, Sdf.Path(paths[name]))
         schemas = ["PhysicsMassAPI"] + (["NewtonMassAPI"] if name in newton else [])
@@ -174,6 +180,9 @@ def in_place(path: Path, override: bytes) -> None:
 
     from pxr import Sdf, UsdUtils
 
+    if path.suffix.lower() == ".usdz":
+        raise UrdfError("--in-place cannot author into a .usdz package (read-only "
+                        "zip); use the override layer (the default)", file=path)
     root = Sdf.Layer.FindOrOpen(str(path))
     if root is None:
         raise UrdfError("USD cannot read this layer", file=path)
