@@ -17,7 +17,8 @@ def asset(name: str) -> Path:
 
 
 def all_assets() -> list[str]:
-    return sorted(p.name for p in DATA.iterdir() if p.is_dir())
+    """The converted robots (``handmade`` holds assets written by hand, no source)."""
+    return sorted(p.name for p in DATA.iterdir() if p.is_dir() and p.name != "handmade")
 
 
 def source(name: str) -> Path:

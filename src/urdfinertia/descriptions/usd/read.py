@@ -61,10 +61,35 @@ def valid_identifier(name: str) -> str:
     return "_" + out if not out or out[0].isdigit() else out
 
 
+#: the last asset read and the times of every layer it used: ``fix`` reads the model and
+#: then the override template of the same asset
+_LAST: list[tuple[tuple[str, bool], tuple[tuple[str, int], ...], UsdRobot]] = []
+
+
+def _stamps(paths: tuple[str, ...]) -> tuple[tuple[str, int], ...] | None:
+    try:
+        return tuple((p, Path(p).stat().st_mtime_ns) for p in paths)
+    except OSError:
+        return None
+
+
 def read(path: Path, *, lenient: bool = False) -> UsdRobot:
     """The robot of a USD asset. Strict (``fix``): a sublayer, reference or payload that
     cannot be opened refuses the asset (its bodies would be read incomplete); lenient
     (``check``): it is a problem of the document."""
+    key = (str(path.resolve()), lenient)
+    for k, stamps, found in _LAST:
+        if k == key and _stamps(tuple(p for p, _ in stamps)) == stamps:
+            return found
+    found, used = _read(path, lenient)
+    stamps_now = _stamps(used)
+    _LAST.clear()
+    if stamps_now is not None:
+        _LAST.append((key, stamps_now, found))
+    return found
+
+
+def _read(path: Path, lenient: bool) -> tuple[UsdRobot, tuple[str, ...]]:
     opened = open_stage(path)
     if opened.missing and not lenient:
         from urdfinertia.errors import UrdfError
@@ -72,7 +97,9 @@ def read(path: Path, *, lenient: bool = False) -> UsdRobot:
         raise UrdfError(f"layer {opened.missing[0]} cannot be opened"
                         + (f" (and {len(opened.missing) - 1} more)"
                            if len(opened.missing) > 1 else ""), file=path)
-    return _Reader(opened, path, lenient).run()
+    used = tuple(str(layer.realPath) for layer in opened.stage.GetUsedLayers()
+                 if layer.realPath)
+    return _Reader(opened, path, lenient).run(), used
 
 
 class _Reader:
