@@ -148,7 +148,7 @@ def problem_findings(robot: Robot) -> list[Finding]:
     """What the reader read past (elements dropped, values read leniently), with lines."""
     out = []
     for p in robot.problems:
-        severity, code = _PROBLEM_FINDINGS.get(p.code, ("warning", p.code))
+        severity, code = _PROBLEM_FINDINGS.get(p.code, (rule_of(p.code).severity, p.code))
         where = f"line {p.line}: " if p.line is not None else ""
         element = f"{p.element}: " if p.element else ""
         out.append(Finding(p.link, severity, code, f"{where}{element}{p.cause}", p.line))

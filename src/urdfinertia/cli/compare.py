@@ -36,8 +36,10 @@ from urdfinertia.errors import OutputError
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("urdf", type=Path, help="the URDF whose inertials are compared (side A)")
-    p.add_argument("--against", type=Path, metavar="OTHER.urdf",
-                   help="compare with this URDF's inertials (side B) instead of the geometry")
+    p.add_argument("--against", type=Path, metavar="OTHER",
+                   help="compare with this description's inertials (side B) instead of the "
+                        "geometry; of another format (robot.usd from robot.urdf or .xml), "
+                        "also name what the conversion changed")
     p.add_argument("--json", type=Path, metavar="PATH", help="write per-link results as JSON")
     p.add_argument("--csv", type=Path, metavar="PATH", help="write per-link results as CSV")
     p.add_argument("--plot", type=Path, metavar="PATH.png",
@@ -79,10 +81,18 @@ def run(args: argparse.Namespace) -> int:
         comparisons = compare_with_geometry(args.urdf, options_from_args(args), **tols)
         title = f"{args.urdf}: written (A) vs geometry (B)"
     stats = summary(comparisons)
+    conversion = None  # a conversion's named differences (analysis/against.py)
+    if args.against is not None:
+        from urdfinertia.analysis.against import compare_import, is_conversion
+
+        if is_conversion(args.urdf, args.against):
+            conversion = compare_import(args.urdf, args.against)
     if args.json is not None:
         doc = {"file": str(args.urdf), "against": str(args.against) if args.against else None,
                "tolerances": tols, "summary": stats,
                "links": [comparison_dict(c) for c in comparisons]}
+        if conversion is not None:
+            doc["conversion"] = conversion.as_dict()
         atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
     if args.csv is not None:
         atomic_write_bytes(args.csv, comparisons_csv(comparisons).encode())
@@ -104,6 +114,13 @@ def run(args: argparse.Namespace) -> int:
             shown = [c for c in shown if c.verdict != "ok"]
         console.print(comparison_table(shown, title))
     console.print(summary_line(stats), soft_wrap=True)
+    if conversion is not None:
+        from urdfinertia.analysis.against import report_lines
+
+        for line in report_lines(conversion):
+            console.print(line, soft_wrap=True, markup=False, highlight=False)
+        if args.fail_above is not None and conversion.differences:
+            return 1
     if args.fail_above is not None:
         failing = [c for c in comparisons
                    if c.verdict in FAILING and worst_error(c) > args.fail_above]

@@ -91,6 +91,11 @@ def run(args: argparse.Namespace) -> int:
         meshes = single_file_library(args, options)
         result = fix_file(args.urdf, options, meshes)
         finish_single(args, meshes)
+    from urdfinertia.descriptions.formats import format_of
+
+    fmt = format_of(result.robot)  # USD: an override layer beside the asset by default
+    if fmt.default_output is not None and args.output is None and not args.in_place:
+        args.output = fmt.default_output(result.path)
     if args.output is not None and args.output.resolve() == args.urdf.resolve():
         raise OutputError("output is the input file: use --in-place", file=args.output)
     # everything is computed before the first write; the description (the file that

@@ -91,12 +91,19 @@ class DescriptionFormat:
     #: references (meshes, textures, included files, asset folders) made to resolve from
     #: the output's folder (:mod:`urdfinertia.descriptions.references`); None: nothing to do
     relocate: Callable[[bytes, Path, Path], tuple[bytes, int]] | None = None
+    #: path -> path: where ``fix`` writes when given neither ``-o`` nor ``--in-place`` (USD:
+    #: the override layer ``robot.inertia.usda`` beside the asset); None: standard output
+    default_output: Callable[[Path], Path] | None = None
+    #: (path, output bytes) -> None: ``--in-place`` for a format whose output is not the
+    #: input's new bytes (USD: the override's opinions authored into the root layer)
+    write_in_place: Callable[[Path, bytes], None] | None = None
 
 
 _FORMATS: dict[str, DescriptionFormat] = {}
 #: Modules that register the built-in formats when first imported.
 _BUILTIN = ("urdfinertia.descriptions.urdf", "urdfinertia.descriptions.xacro",
-            "urdfinertia.descriptions.mjcf", "urdfinertia.descriptions.sdf")
+            "urdfinertia.descriptions.mjcf", "urdfinertia.descriptions.sdf",
+            "urdfinertia.descriptions.usd")
 #: Bytes searched for the root element (comments and a DOCTYPE may come first).
 _SNIFF_BYTES = 1 << 16
 _PROLOG = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s+|<\?.*?\?>|<!--.*?-->|<![^>]*>)*", re.S)

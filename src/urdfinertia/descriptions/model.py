@@ -49,6 +49,12 @@ class Capsule:
 
 
 @dataclass(frozen=True)
+class Cone:
+    radius: float  # of the base disc, m
+    length: float  # full height along z, centred: base at -length/2, apex at +length/2
+
+
+@dataclass(frozen=True)
 class Ellipsoid:
     radii: tuple[float, float, float]  # semi-axes along x, y, z, m
 
@@ -59,7 +65,7 @@ class Mesh:
     scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
 
 
-Shape = Box | Cylinder | Sphere | Capsule | Ellipsoid | Mesh
+Shape = Box | Cylinder | Sphere | Capsule | Cone | Ellipsoid | Mesh
 
 
 @dataclass(frozen=True)

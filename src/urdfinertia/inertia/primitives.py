@@ -70,3 +70,18 @@ def capsule(radius: float, length: float, density: float) -> MassProperties:
         2.0 * r * r / 5.0 + h * h / 4.0 + 3.0 * h * r / 8.0
     )
     return MassProperties(m_cyl + m_caps, np.zeros(3), np.diag([ixx, ixx, izz]))
+
+
+def cone(radius: float, height: float, density: float) -> MassProperties:
+    """Solid right circular cone along z, centred as OpenUSD's ``UsdGeom.Cone``: base disc
+    of ``radius`` at z = -height/2, apex at z = +height/2.
+
+    The centre of mass lies a quarter of the height above the base (z = -height/4);
+    about it ``Izz = 3/10 m r^2`` and ``Ixx = Iyy = m (3/20 r^2 + 3/80 h^2)``.
+    """
+    _positive("cone radius/height", radius, height)
+    r, h = radius, height
+    m = density * np.pi * r * r * h / 3.0
+    ixx = m * (3.0 * r * r / 20.0 + 3.0 * h * h / 80.0)
+    return MassProperties(m, np.array([0.0, 0.0, -h / 4.0]),
+                          np.diag([ixx, ixx, 0.3 * m * r * r]))

@@ -15,6 +15,7 @@ from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.model import (
     Box,
     Capsule,
+    Cone,
     Cylinder,
     Ellipsoid,
     GeometryRef,
@@ -44,7 +45,7 @@ def shape_points(shape: Shape, cache: BoundsCache, urdf_dir: Path) -> np.ndarray
     if isinstance(shape, Box):
         half = np.asarray(shape.size, dtype=np.float64) / 2
         return _box_corners(-half, half)
-    if isinstance(shape, Cylinder):
+    if isinstance(shape, Cylinder | Cone):  # a cone's box is its cylinder's
         half = np.array([shape.radius, shape.radius, shape.length / 2])
         return _box_corners(-half, half)
     if isinstance(shape, Sphere):

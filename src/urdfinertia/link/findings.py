@@ -53,6 +53,16 @@ RULES: dict[str, Rule] = _rules(
     ("UI112", "mass-absurd", "inertial", "error",
      "a mass no robot link has (a unit slip such as mm^3 read as m^3)"),
     ("UI113", "inertia-absurd", "inertial", "error", "inertia components no robot link has"),
+    ("UI114", "usd-negative-mass", "inertial", "error", "USD MassAPI: physics:mass < 0"),
+    ("UI115", "usd-negative-density", "inertial", "error", "USD MassAPI: physics:density < 0"),
+    ("UI116", "usd-density-without-mass", "inertial", "warning",
+     "USD MassAPI: density given where mass is not (SimReady: give the mass)"),
+    ("UI117", "usd-diagonal-inertia-invalid", "inertial", "error",
+     "USD MassAPI: diagonalInertia negative or violating A + B >= C"),
+    ("UI118", "usd-principal-axes-not-unit", "inertial", "error",
+     "USD MassAPI: principalAxes is not a unit quaternion"),
+    ("UI119", "usd-newton-mass-disagrees", "inertial", "warning",
+     "USD: newton:inertia and the MassAPI tensor differ (engines disagree)"),
     ("UI201", "geometry-unreadable", "link", "warning", "the link's geometry cannot be read"),
     ("UI202", "implausible-density", "inertial", "warning",
      "mass / geometry volume is no material's density"),
@@ -87,6 +97,8 @@ RULES: dict[str, Rule] = _rules(
     ("UI505", "missing-attribute", "link", "error", "a required attribute is missing"),
     ("UI506", "xml-read-leniently", "robot", "warning",
      "XML that strict parsers refuse (declaration, undeclared prefix, trailing content)"),
+    ("UI507", "missing-layer", "robot", "error",
+     "a USD sublayer, reference or payload names a layer that cannot be opened"),
 )
 
 

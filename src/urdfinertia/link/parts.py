@@ -19,6 +19,7 @@ import numpy as np
 from urdfinertia.descriptions.model import (
     Box,
     Capsule,
+    Cone,
     Cylinder,
     Ellipsoid,
     GeometryRef,
@@ -120,6 +121,8 @@ def shape_solids(shape: Shape, meshes: MeshSource, urdf_dir: Path) -> list[BodyS
     if isinstance(shape, Capsule):
         return [BodySolid(primitives.capsule(shape.radius, shape.length, 1.0),
                           "closed form capsule")]
+    if isinstance(shape, Cone):
+        return [BodySolid(primitives.cone(shape.radius, shape.length, 1.0), "closed form cone")]
     if isinstance(shape, Ellipsoid):
         return [BodySolid(primitives.ellipsoid(shape.radii, 1.0), "closed form ellipsoid")]
     if isinstance(shape, Mesh):

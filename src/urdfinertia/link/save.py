@@ -18,6 +18,7 @@ from urdfinertia.atomic import atomic_write_bytes, write_in_place
 from urdfinertia.errors import OutputError
 
 if TYPE_CHECKING:
+    from urdfinertia.descriptions.formats import DescriptionFormat
     from urdfinertia.link.results import FixResult
 
 #: Suffix of the copy kept when a file is replaced in place.
@@ -83,7 +84,9 @@ def save_result(result: FixResult, path: str | Path | None = None, *, in_place: 
     result : FixResult
         What :func:`urdfinertia.fix` (or ``fix_file``) returned.
     path : str or Path, optional
-        The output file. Its folder must exist. Relative references of the document are
+        The output file. Its folder must exist. A format with a default output (USD: the
+        override layer ``<asset>.inertia.usda`` beside the asset) is saved there when
+        ``path`` is omitted. Relative references of the document are
         rewritten to name the same files from there (unless ``keep_mesh_paths``).
     in_place : bool
         Replace the input file (``result.path``) instead; ``path`` must then be omitted
@@ -128,11 +131,18 @@ def save_result(result: FixResult, path: str | Path | None = None, *, in_place: 
                               "the URDF elsewhere", file=source)
         if not result.changed:
             return SaveReport(source, False)
+        own = _format(result).write_in_place
+        if own is not None:  # USD: the fixed opinions are authored into the root layer
+            own(source, result.output)
+            return SaveReport(source, True)
         if backup:
             written = write_in_place(source, result.output, BACKUP_SUFFIX)
             return SaveReport(written, True, 0, written.with_name(written.name
                                                                    + BACKUP_SUFFIX))
         return SaveReport(atomic_write_bytes(source, result.output), True)
+    default_output = _format(result).default_output
+    if path is None and default_output is not None:
+        path = default_output(source)  # USD: an override layer beside the asset
     if path is None:
         raise OutputError("nothing to save to: pass a path or in_place=True", file=source)
     path = Path(path)
@@ -140,6 +150,12 @@ def save_result(result: FixResult, path: str | Path | None = None, *, in_place: 
         raise OutputError("output is the input file: use in-place saving", file=path)
     document, rewritten = output_bytes(result, path, keep_mesh_paths=keep_mesh_paths)
     return SaveReport(atomic_write_bytes(path, document), True, rewritten)
+
+
+def _format(result: FixResult) -> DescriptionFormat:
+    from urdfinertia.descriptions.formats import format_of
+
+    return format_of(result.robot)
 
 
 def _same_file(a: Path, b: Path) -> bool:
