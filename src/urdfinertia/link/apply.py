@@ -111,10 +111,13 @@ def _repair(link: Link, decision: Decision, options: FixOptions) -> LinkResult:
             f"; a moving body needs mass: given {MIN_BODY_MASS:g} kg, a {100 * radius:g} cm "
             "sphere"), kept=kept_com, derived=tuple(v for v in VALUES if v not in kept_com))
     r = repair_link(link)
-    if r.status == "repaired" and r.assembly is not None:
+    if r.status == Status.REPAIRED and r.assembly is not None:
         total = r.assembly.total
         moments, _ = total.principal()
-        if math.sqrt(moments[-1] / total.mass) >= MIN_GYRATION:
+        # nothing fix writes is invalid: a lift that leaves the tensor invalid (a rank-one
+        # tensor, two moments at zero: anymal-kinova's base) gets the sphere below
+        valid = RawInertial.from_mass_properties(total).diagnosis().valid
+        if valid and math.sqrt(moments[-1] / total.mass) >= MIN_GYRATION:
             return replace(r, decision=decision.describe(), kept=("mass", "com"),
                            derived=("tensor",))
     com = raw.com if raw.com_ok else np.zeros(3)
