@@ -221,14 +221,19 @@ def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: Batch
     from urdfinertia.cache.library import MeshLibrary
 
     library = MeshLibrary(options.package_dirs, options.max_faces, cache)
-    with open_executor(settings.jobs, settings.dask) as pool:
-        if pool is None:
-            return library
-        run = _Run(options, settings, cache, progress)
-        with run.times.stage("xml"):
-            needs = [referenced_meshes(Path(u), options) for u in urdfs]
-        run.prepare(pool, needs, lambda i: None)
-        run.drain(lambda payload, fut: None)
+    if settings.jobs <= 1 and not settings.dask:
+        return library
+    run = _Run(options, settings, cache, progress)
+    with run.times.stage("xml"):
+        needs = [referenced_meshes(Path(u), options) for u in urdfs]
+    distinct = dict.fromkeys(p for paths in needs for p in paths)
+    # as in _fix_all: no worker processes when there is nothing to compute
+    jobs = 1 if all(run.lookup_cache(p) or p not in run.keys for p in distinct) else \
+        settings.jobs
+    with open_executor(jobs, settings.dask) as pool:
+        if pool is not None:
+            run.prepare(pool, needs, lambda i: None)
+            run.drain(lambda payload, fut: None)
     for path, outcome in run.meshes.items():
         library.seed(path, outcome)
     library.timer.merge(run.times)
