@@ -228,3 +228,18 @@ def test_display_meshes_keep_only_distinct_used_vertices(rng):
     np.testing.assert_array_equal(small_v[small_f], v[f])
     _, dec_f, _ = decimate(v, f, 10_000)  # under budget: as is, but compacted too
     assert dec_f.max() == len(sphere.vertices) - 1
+
+
+def test_a_cone_is_drawn_centred_with_its_apex_up():
+    # the model's cone is centred on its origin, apex at +length/2 (USD's convention)
+    from urdfinertia.descriptions.model import Cone
+    from urdfinertia.render.scene import primitive_triangles
+
+    vertices, faces = primitive_triangles(Cone(radius=0.1, length=0.4))
+    assert vertices[:, 2].min() == pytest.approx(-0.2)
+    assert vertices[:, 2].max() == pytest.approx(0.2)
+    top = vertices[vertices[:, 2] > 0.2 - 1e-12]
+    assert np.allclose(top[:, :2], 0.0)  # the apex is on the axis
+    base = vertices[vertices[:, 2] < -0.2 + 1e-12]
+    assert np.hypot(base[:, 0], base[:, 1]).max() == pytest.approx(0.1)
+    assert faces.max() < len(vertices)

@@ -23,6 +23,7 @@ from urdfinertia.descriptions.kinematics import zero_configuration_poses
 from urdfinertia.descriptions.model import (
     Box,
     Capsule,
+    Cone,
     Cylinder,
     Ellipsoid,
     Inertial,
@@ -211,6 +212,10 @@ def primitive_triangles(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
         m = trimesh.creation.icosphere(subdivisions=2, radius=shape.radius)
     elif isinstance(shape, Capsule):
         m = trimesh.creation.capsule(height=shape.length, radius=shape.radius, count=[16, 8])
+    elif isinstance(shape, Cone):
+        # trimesh's cone stands on z = 0; the model's is centred (apex at +length/2)
+        m = trimesh.creation.cone(radius=shape.radius, height=shape.length, sections=24)
+        m.apply_translation((0.0, 0.0, -shape.length / 2))
     elif isinstance(shape, Ellipsoid):
         m = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
         m.apply_scale(shape.radii)
