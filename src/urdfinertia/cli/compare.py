@@ -112,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
         shown = worst_first(comparisons, args.tol_com, args.tol_inertia)
         if not args.all:
             shown = [c for c in shown if c.verdict != "ok"]
-        console.print(comparison_table(shown, title))
+        console.print(comparison_table(shown, title, console.width))
     console.print(summary_line(stats), soft_wrap=True)
     if conversion is not None:
         from urdfinertia.analysis.against import report_lines
@@ -138,21 +138,52 @@ def _moments(m) -> str:
     return "-" if m is None else " ".join(f"{v:.3g}" for v in m)
 
 
-def comparison_table(comparisons: list[LinkComparison], title: str) -> Table:
-    table = Table(title=title)
-    for col in ("link", "verdict", "mass B/A", "CoM dist mm", "CoM/size", "tensor err",
-                "principal moments A", "principal moments B", "axes deg", "note"):
-        table.add_column(col, overflow="fold")
+#: compare's columns, most important first: the ones that do not fit the width are left
+#: out (the JSON and CSV keep every figure); numbers never wrap, the note does.
+_COLUMNS = ("link", "verdict", "tensor err", "CoM/size", "mass B/A", "note", "axes deg",
+            "CoM dist mm", "principal moments A", "principal moments B")
+#: the note's narrowest useful width, in characters
+_NOTE_WIDTH = 24
+
+
+def comparison_table(comparisons: list[LinkComparison], title: str,
+                     width: int | None = None) -> Table:
+    """The comparison as a table; with ``width`` (characters), only the columns that fit."""
     style = {"ok": "green", "differs": "yellow", "kept": "cyan", "invalid": "red",
              "missing": "dim"}
-    for c in comparisons:
-        table.add_row(
-            c.link, f"[{style[c.verdict]}]{c.verdict}[/]", _g(c.mass_ratio, ".4g"),
-            _g(c.com_distance * 1000 if c.com_distance is not None else None, ".3g"),
-            _g(c.com_distance_rel), _g(c.inertia_rel_error), _moments(c.moments_a),
-            _moments(c.moments_b), _g(c.axis_angle_deg, ".1f"),
-            "; ".join(x for x in (c.note, c.decision) if x))
+    rows = [{
+        "link": c.link, "verdict": c.verdict, "mass B/A": _g(c.mass_ratio, ".4g"),
+        "CoM dist mm": _g(c.com_distance * 1000 if c.com_distance is not None else None,
+                          ".3g"),
+        "CoM/size": _g(c.com_distance_rel), "tensor err": _g(c.inertia_rel_error),
+        "principal moments A": _moments(c.moments_a),
+        "principal moments B": _moments(c.moments_b),
+        "axes deg": _g(c.axis_angle_deg, ".1f"),
+        "note": "; ".join(x for x in (c.note, c.decision) if x)} for c in comparisons]
+    shown = _fitting_columns(rows, width)
+    table = Table(title=title)
+    for col in shown:
+        if col == "note":
+            table.add_column(col, overflow="fold", min_width=_NOTE_WIDTH, ratio=1)
+        else:
+            table.add_column(col, no_wrap=True)
+    for cells, c in zip(rows, comparisons, strict=True):
+        cells["verdict"] = f"[{style[c.verdict]}]{c.verdict}[/]"
+        table.add_row(*(cells[col] for col in shown))
     return table
+
+
+def _fitting_columns(rows: list[dict[str, str]], width: int | None) -> list[str]:
+    if width is None:
+        return list(_COLUMNS)
+    used, keep = 1, []
+    for col in _COLUMNS:
+        need = _NOTE_WIDTH if col == "note" else max(
+            [len(col)] + [len(r[col]) for r in rows])
+        if used + need + 3 <= width or len(keep) < 2:
+            keep.append(col)
+            used += need + 3
+    return [c for c in _COLUMNS if c in keep]
 
 
 def summary_line(stats: dict) -> str:
