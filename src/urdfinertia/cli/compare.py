@@ -176,7 +176,7 @@ def comparison_table(comparisons: list[LinkComparison], title: str,
 def _fitting_columns(rows: list[dict[str, str]], width: int | None) -> list[str]:
     if width is None:
         return list(_COLUMNS)
-    used, keep = 1, []
+    used, keep = 1, list[str]()
     for col in _COLUMNS:
         need = _NOTE_WIDTH if col == "note" else max(
             [len(col)] + [len(r[col]) for r in rows])
