@@ -136,6 +136,9 @@ class Link:
     #: the format asks its simulator to compute this inertial at load time (SDFormat
     #: ``<inertial auto="true">``): ``fix --keep-auto`` leaves it so
     auto_inertial: bool = False
+    #: why this document cannot carry a new inertial for the link (MJCF: the body is
+    #: defined in an included file, which ``fix`` does not write); None when it can
+    read_only: str | None = None
 
 
 @dataclass(frozen=True)

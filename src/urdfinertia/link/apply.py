@@ -48,6 +48,12 @@ def apply_decision(link: Link, decision: Decision, options: FixOptions, meshes: 
     verified: the decision's unreadable geometry and every element dropped computing it.
     """
     r = _apply(link, decision, options, meshes, urdf_dir, problems)
+    if link.read_only is not None and r.changed:
+        # the new values cannot be written where the inertial lives: say so, change nothing
+        r = LinkResult(link.name, Status.LEFT, r.geometry, None, link.inertial,
+                       problems=problems, reason=link.read_only,
+                       decision=f"left as it was: {link.read_only}",
+                       kept=VALUES if link.inertial is not None else ())
     dropped = tuple(f"{p.element}: {p.cause}" if p.element else p.cause
                     for p in r.problems if p.kind == "dropped" and p.link == link.name)
     unverified = tuple(dict.fromkeys(decision.unverified + dropped))

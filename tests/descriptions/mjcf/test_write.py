@@ -91,7 +91,7 @@ def test_output_compiles_with_explicit_inertials_to_the_computed_values(styled, 
                                        rtol=1e-9)
 
 
-def test_bodies_of_included_files_are_computed_not_written(tmp_path):
+def test_bodies_of_included_files_are_left_and_said_so(tmp_path):
     (tmp_path / "arm.xml").write_text(
         '<mujoco><body name="arm"><joint/><geom type="box" size=".1 .1 .1"/></body></mujoco>')
     main = tmp_path / "main.xml"
@@ -99,9 +99,12 @@ def test_bodies_of_included_files_are_computed_not_written(tmp_path):
                     '<include file="arm.xml"/></body></worldbody></mujoco>')
     result = fix_file(main, FixOptions(recompute="all"))
     by_name = {r.name: r for r in result.links}
-    assert by_name["arm"].assembly is not None
-    assert any("included file arm.xml" in w and "not written" in w
-               for w in by_name["arm"].warnings)
+    # fix cannot write the included file: the link is left, not said to be recomputed
+    arm = by_name["arm"]
+    assert (arm.status, arm.assembly) == ("left", None)
+    assert arm.reason == "defined in included file arm.xml, which is not written"
+    assert [r.name for r in result.left] == ["arm"]
+    assert by_name["base"].status == "recomputed"
     assert result.output.count(b"<inertial") == 1
     out = tmp_path / "out.xml"
     out.write_bytes(result.output)

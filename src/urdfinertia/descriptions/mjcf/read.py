@@ -123,9 +123,6 @@ class _Reader:
         pose = self._pose(el, src, el.attrib, None, link=name)
         body = _Body(name, el, src, parent.name if parent else "world", frame @ pose,
                      el.get("childclass", childclass))
-        if not src.main:
-            body.notes.append(f"defined in included file {src.path.name}: computed, not "
-                              "written (its <inertial> lives in that file)")
         self.bodies.append(body)
         self._walk(el, src, body, np.eye(4), body.childclass)
 
@@ -176,7 +173,9 @@ class _Reader:
         counted = self._materials(body, body.counted)
         return Link(name=body.name, collisions=tuple(collisions), visuals=tuple(visuals),
                     inertial=body.inertial, line=body.el.sourceline,
-                    inertia_geometry=tuple(counted), notes=tuple(body.notes))
+                    inertia_geometry=tuple(counted), notes=tuple(body.notes),
+                    read_only=None if body.src.main else
+                    f"defined in included file {body.src.path.name}, which is not written")
 
     def _materials(self, body: _Body, refs: list[GeometryRef]) -> list[GeometryRef]:
         """Geom materials of a body that has an ``<inertial>`` become weights.
