@@ -104,13 +104,15 @@ def test_mjcf_absolute_folder_and_same_folder_are_left(models, tmp_path):
         src.read_bytes(), 0)
 
 
-def test_mjcf_fixed_with_output_elsewhere_compiles(models, tmp_path):
+def test_mjcf_fixed_with_output_elsewhere_compiles(models, tmp_path, capsys):
     from urdfinertia.cli import main
 
     src = models / "mjcf" / "robot.xml"
     out = tmp_path / "fixed" / "robot.xml"
     out.parent.mkdir()
-    assert main(["fix", str(src), "-o", str(out), "-q", "--all"]) == 0
+    # exit 1: the arm's body lives in the included file, which fix does not write
+    assert main(["fix", str(src), "-o", str(out), "-q", "--all"]) == 1
+    assert "defined in included file" in capsys.readouterr().err
     model = mujoco.MjModel.from_xml_path(str(out))
     assert model.nbody == 3
     assert b'meshdir="../in/mjcf/assets"' in out.read_bytes()

@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterable
 from pathlib import Path, PurePosixPath
+
+from urdfinertia.descriptions.splice import splice_edits  # noqa: F401  (re-exported)
 
 _SCHEME = re.compile(r"[A-Za-z][A-Za-z0-9+.-]*:")
 
@@ -43,15 +44,3 @@ def relocated(uri: str, source_dir: Path, output_dir: Path) -> str:
 
 def same_folder(source_dir: Path, output_dir: Path) -> bool:
     return os.path.abspath(source_dir) == os.path.abspath(output_dir)
-
-
-def splice_edits(data: bytes, edits: Iterable[tuple[int, int, bytes]]) -> bytes:
-    """``data`` with each ``[start, end)`` replaced by its text (spans must not overlap)."""
-    out = bytearray()
-    pos = 0
-    for start, end, text in sorted(edits):
-        out += data[pos:start]
-        out += text
-        pos = end
-    out += data[pos:]
-    return bytes(out)

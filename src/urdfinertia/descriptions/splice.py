@@ -194,3 +194,18 @@ def child_tags(data: bytes, start: int, end: int) -> dict[bytes, re.Match[bytes]
             found.setdefault(m.group(6), m)
         if not m.group(8):
             depth += 1
+
+
+def splice_edits(data: bytes, edits: Iterable[tuple[int, int, bytes]]) -> bytes:
+    """``data`` with each ``[start, end)`` replaced by its text; overlapping spans are a
+    writer's bug (:class:`UrdfError`)."""
+    out = bytearray()
+    pos = 0
+    for start, end, text in sorted(edits, key=lambda e: (e[0], e[1])):
+        if start < pos:
+            raise UrdfError(f"overlapping edits at byte {start}")
+        out += data[pos:start]
+        out += text
+        pos = end
+    out += data[pos:]
+    return bytes(out)

@@ -29,6 +29,7 @@ from urdfinertia.descriptions.splice import (
     format_float,
     line_indent,
     next_tag,
+    splice_edits,
 )
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
@@ -205,11 +206,4 @@ def patch_inertials(data: bytes, new: NewInertials) -> bytes:
             if indent is None or len(indent) <= len(span.body_indent):
                 indent = span.body_indent + b"  "
             edits.append((span.start_tag_end, span.start_tag_end, newline + indent + text))
-    out = bytearray()
-    pos = 0
-    for start, end, text in sorted(edits):
-        out += data[pos:start]
-        out += text
-        pos = end
-    out += data[pos:]
-    return bytes(out)
+    return splice_edits(data, edits)

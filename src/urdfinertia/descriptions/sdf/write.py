@@ -25,6 +25,7 @@ from urdfinertia.descriptions.splice import (
     format_float,
     line_indent,
     next_tag,
+    splice_edits,
 )
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
@@ -286,13 +287,4 @@ def patch_inertials(data: bytes, new: NewInertials) -> bytes:
             edits.extend(partial)
             continue
         edits.extend(_edits_for(data, link, entry.props, entry.size, newline))
-    out = bytearray()
-    pos = 0
-    for start, end, text in sorted(edits, key=lambda e: (e[0], e[1])):
-        if start < pos:
-            raise UrdfError(f"overlapping edits at byte {start}")
-        out += data[pos:start]
-        out += text
-        pos = end
-    out += data[pos:]
-    return bytes(out)
+    return splice_edits(data, edits)

@@ -24,6 +24,7 @@ from urdfinertia.descriptions.splice import (
     format_float,
     line_indent,
     next_tag,
+    splice_edits,
 )
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.massprops import MassProperties
@@ -246,11 +247,4 @@ def patch_inertials(data: bytes, new: NewInertials) -> bytes:
                 span.link_indent + step)
             text = newline + indent + inertial_xml(props, size, indent, step, newline)
             edits.append((span.start_tag_end, span.start_tag_end, text))
-    out = bytearray()
-    pos = 0
-    for start, end, text in sorted(edits):
-        out += data[pos:start]
-        out += text
-        pos = end
-    out += data[pos:]
-    return bytes(out)
+    return splice_edits(data, edits)
