@@ -14,6 +14,7 @@ trimesh nor numpy)::
 ``compare``            written inertials against the geometry or another file
 ``explain``            one link: what ``fix`` writes and its geometry element by element
 ``report``             the HTML report -> ``Report`` (``.html``, ``.save(path)``)
+``write_back``         write a fixed xacro robot's values into its sources
 ``LinkResult``         one link's verdict: findings, ``Action``, reason, before/after ...
 ``Status``, ``Action`` what happened to a link, what the policy decided (string Enums)
 ``Finding``            one finding, with its rule id
@@ -58,6 +59,7 @@ _API = {
     "explain": "urdfinertia.api",
     "report": "urdfinertia.api",
     "Report": "urdfinertia.api",
+    "write_back": "urdfinertia.link.save",
 }
 __all__ = sorted(_API)
 

@@ -13,16 +13,20 @@ is a thin shell over the same functions, so the answers agree link by link::
 Options (:class:`~urdfinertia.link.options.FixOptions`): ``geometry`` ("auto",
 "collision", "visual"), ``mass`` ("keep", "density"), ``density`` (kg/m^3),
 ``package_dirs`` (package name -> folder), ``max_faces``, ``spec`` (a path or a loaded
-spec), ``strict``, ``keep_auto``, ``recompute`` ("needed", "all", "links") and ``links``.
+spec), ``strict``, ``keep_auto``, ``recompute`` ("needed", "all", "links") and ``links``;
+for xacro input also ``xacro_args`` (NAME -> VALUE, as ``--xacro-arg NAME:=VALUE``).
+A fixed xacro robot is written back into its sources with
+:func:`~urdfinertia.link.save.write_back`.
 This module may import every layer below the command line.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import functools
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 if TYPE_CHECKING:
     from urdfinertia.analysis.check import CheckResult
@@ -31,6 +35,25 @@ if TYPE_CHECKING:
     from urdfinertia.link.options import FixOptions
     from urdfinertia.link.results import FixResult
     from urdfinertia.render.report import ReportData
+
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _xacro_options(func: _F) -> _F:
+    """Let ``func`` take ``xacro_args`` (NAME -> VALUE) among its keyword options: xacro
+    input read in the call is expanded with them and ``package_dirs``; nothing outside the
+    call is affected."""
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, xacro_args: Mapping[str, str] | None = None,
+                **kwargs: Any) -> Any:
+        from urdfinertia.descriptions.xacro.expand import settings_for
+
+        with settings_for(xacro_args, kwargs.get("package_dirs")):
+            return func(*args, **kwargs)
+
+    return cast(_F, wrapper)
 
 
 def make_options(**options: Any) -> FixOptions:
@@ -52,6 +75,7 @@ def make_options(**options: Any) -> FixOptions:
     return FixOptions(**options)
 
 
+@_xacro_options
 def check(path: str | Path, *, geometry: bool = True, **options: Any) -> CheckResult:
     """Lint the description at ``path``: findings and what ``fix`` would do, per link.
 
@@ -66,6 +90,7 @@ def check(path: str | Path, *, geometry: bool = True, **options: Any) -> CheckRe
     return check_description(robot, options=opts, geometry=geometry)
 
 
+@_xacro_options
 def fix(path: str | Path, **options: Any) -> FixResult:
     """Fix the inertials of the description at ``path``; nothing is written.
 
@@ -76,6 +101,7 @@ def fix(path: str | Path, **options: Any) -> FixResult:
     return fix_file(path, make_options(**options))
 
 
+@_xacro_options
 def compare(path: str | Path, against: str | Path | None = None, *,
             tol_com: float | None = None, tol_inertia: float | None = None,
             tol_mass: float | None = None, **options: Any) -> list[LinkComparison]:
@@ -95,6 +121,7 @@ def compare(path: str | Path, against: str | Path | None = None, *,
                                           tol_mass=tols["tol_mass"])
 
 
+@_xacro_options
 def explain(path: str | Path, link: str, **options: Any) -> Breakdown:
     """Link ``link`` of ``path``: what ``fix`` writes and its geometry element by element."""
     from urdfinertia.analysis.explain import explain_link
@@ -120,6 +147,7 @@ class Report:
         return Path(path)
 
 
+@_xacro_options
 def report(path: str | Path, *, view: str = "visual", face_budget: int | None = None,
            **options: Any) -> Report:
     """The HTML report of ``path`` (``report.save("robot.html")`` writes it)."""

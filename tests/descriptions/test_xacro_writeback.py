@@ -243,3 +243,37 @@ def test_a_failed_check_from_disk_restores_every_source(tmp_path, monkeypatch):
     with pytest.raises(UrdfError, match="sources restored: link '.*'"):
         apply_plan(path, exp, fixed, plan, current_settings())
     assert path.read_bytes() == original
+
+
+def test_the_library_writes_back_the_same_sources_as_the_cli(tmp_path):
+    import urdfinertia
+
+    cli_root, _, _, originals, _ = run_write_back(tmp_path / "cli", "ur_description",
+                                                  "urdf/ur.urdf.xacro")
+    lib_root = tmp_path / "lib" / "ur_description"
+    shutil.copytree(DATA / "ur_description", lib_root)
+    result = urdfinertia.fix(lib_root / "urdf/ur.urdf.xacro", recompute="all")
+    report = tmp_path / "lib" / "report.yaml"
+    plan = urdfinertia.write_back(result, report=report)
+    assert {o.status for o in plan.outcomes} >= {"written"}
+    changed = changed_files(cli_root, originals)
+    assert changed  # the CLI edited sources: the library must have edited the same bytes
+    for rel in changed:
+        assert (lib_root / rel).read_bytes() == (cli_root / rel).read_bytes(), rel
+    assert yaml.safe_load(report.read_text())["written"]
+
+
+def test_xacro_args_are_options_of_the_call_only(tmp_path):
+    import urdfinertia
+
+    path = DATA / "ur_description" / "urdf" / "ur.urdf.xacro"
+    result = urdfinertia.fix(path, recompute="all", xacro_args={"prefix": "left_"})
+    assert all(r.name.startswith("left_") for r in result.links)
+    assert current_settings().args == ()  # nothing leaks into later reads
+    again = urdfinertia.fix(path, recompute="all")
+    assert not any(r.name.startswith("left_") for r in again.links)
+    # the same as the command line's --xacro-arg
+    out = tmp_path / "cli.urdf"
+    assert main(["fix", "--all", str(path), "--xacro-arg", "prefix:=left_", "-q",
+                 "-o", str(out)]) == 0
+    assert out.read_bytes() == result.save(tmp_path / "lib.urdf").path.read_bytes()

@@ -10,9 +10,6 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from urdfinertia.atomic import atomic_write_bytes
-from urdfinertia.errors import UrdfInertiaError
-
 if TYPE_CHECKING:
     from urdfinertia.descriptions.xacro.writeback import Plan
     from urdfinertia.link.results import FixResult
@@ -42,46 +39,19 @@ def wants_write_back(args: argparse.Namespace, result: FixResult) -> bool:
 
 
 def write_back(args: argparse.Namespace, result: FixResult) -> Plan:
-    """Plan and apply the write-back of ``result`` (a fixed xacro robot)."""
-    from urdfinertia.descriptions.formats import read_bytes
-    from urdfinertia.descriptions.xacro import expansion
-    from urdfinertia.descriptions.xacro.apply import apply_plan
+    """Plan and apply the write-back of ``result`` (a fixed xacro robot): the library's
+    :func:`urdfinertia.link.save.write_back` with the command line's xacro settings."""
     from urdfinertia.descriptions.xacro.expand import current_settings
-    from urdfinertia.descriptions.xacro.writeback import plan_write_back
+    from urdfinertia.errors import UrdfInertiaError
+    from urdfinertia.link.save import write_back as write_sources
 
     if result.robot.format != "xacro":
         raise UrdfInertiaError("--write-back applies to xacro input (a URDF is fixed with "
                                "--in-place or -o)", file=args.urdf)
-    exp = expansion(read_bytes(args.urdf), args.urdf)
-    if exp.document != result.original:
-        raise UrdfInertiaError("the sources changed during the run; nothing written",
-                               file=args.urdf)
-    plan = plan_write_back(args.urdf, exp, result.output, current_settings())
-    if args.write_back_report is not None:
-        atomic_write_bytes(args.write_back_report, report_yaml(plan).encode())
-    apply_plan(args.urdf, exp, result.output, plan, current_settings())
-    return plan
-
-
-def report_yaml(plan: Plan) -> str:
-    """The reported links with where each value comes from, for a person to apply."""
-    import yaml
-
-    def note(n) -> dict:  # noqa: ANN001
-        out = {"value": n.slot, "current": n.current, "fixed": n.fixed, "source": n.source,
-               "written_as": n.expression}
-        if n.reason:
-            out["why_not_written"] = n.reason
-        return out
-
-    doc = {
-        "reported": [{"link": o.link, "why": o.detail, "values": [note(n) for n in o.values]}
-                     for o in plan.outcomes if o.status == "reported"],
-        "written": [{"link": o.link, "where": o.detail}
-                    for o in plan.outcomes if o.status == "written"],
-        "unchanged": [o.link for o in plan.outcomes if o.status == "unchanged"],
-    }
-    return yaml.safe_dump(doc, sort_keys=False, width=100)
+    settings = current_settings()
+    return write_sources(result, xacro_args=dict(settings.args),
+                         package_dirs=dict(settings.package_dirs),
+                         report=args.write_back_report)
 
 
 def print_summary(plan: Plan, console) -> None:  # noqa: ANN001 - a rich Console

@@ -18,7 +18,10 @@ from urdfinertia.atomic import atomic_write_bytes, write_in_place
 from urdfinertia.errors import OutputError
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
     from urdfinertia.descriptions.formats import DescriptionFormat
+    from urdfinertia.descriptions.xacro.writeback import Plan
     from urdfinertia.link.results import FixResult
 
 #: Suffix of the copy kept when a file is replaced in place.
@@ -150,6 +153,62 @@ def save_result(result: FixResult, path: str | Path | None = None, *, in_place: 
         raise OutputError("output is the input file: use in-place saving", file=path)
     document, rewritten = output_bytes(result, path, keep_mesh_paths=keep_mesh_paths)
     return SaveReport(atomic_write_bytes(path, document), True, rewritten)
+
+
+def write_back(result: FixResult, *, xacro_args: Mapping[str, str] | None = None,
+               package_dirs: Mapping[str, str | Path] | None = None,
+               backup: bool = True, report: str | Path | None = None) -> Plan:
+    """Write a fixed xacro robot's new values into its sources (``fix --write-back``).
+
+    Each value is changed where it is written: a literal, a property, a macro call's
+    attribute or a YAML scalar; values that are computed or shared by several links are
+    reported in the plan, not changed. The edited sources are expanded again and must give
+    ``result.output`` before anything is kept.
+
+    Parameters
+    ----------
+    result : FixResult
+        :func:`urdfinertia.fix` of a xacro file.
+    xacro_args, package_dirs : mapping, optional
+        The xacro arguments and package folders the robot was fixed with.
+    backup : bool
+        Keep ``<source>.bak`` of every file changed.
+    report : str or Path, optional
+        Write the links not written back, with where each value comes from, to this YAML
+        file (before the sources are edited, so it is there even when editing fails).
+
+    Returns
+    -------
+    Plan
+        Per link, where each value was written or why it was not.
+
+    Raises
+    ------
+    UrdfInertiaError
+        The input is not xacro, or its sources changed since ``result`` was computed, or
+        the edited sources do not expand to the fixed document (nothing is then kept).
+    """
+    from urdfinertia.descriptions.formats import read_bytes
+    from urdfinertia.descriptions.xacro import expansion
+    from urdfinertia.descriptions.xacro.apply import apply_plan
+    from urdfinertia.descriptions.xacro.expand import settings_for
+    from urdfinertia.descriptions.xacro.writeback import plan_write_back, report_yaml
+    from urdfinertia.errors import UrdfInertiaError
+
+    source = Path(result.path)
+    if result.robot.format != "xacro":
+        raise UrdfInertiaError("write-back applies to xacro input (a URDF is saved in "
+                               "place or elsewhere)", file=source)
+    with settings_for(xacro_args, package_dirs) as settings:
+        exp = expansion(read_bytes(source), source)
+        if exp.document != result.original:
+            raise UrdfInertiaError("the sources changed during the run; nothing written",
+                                   file=source)
+        plan = plan_write_back(source, exp, result.output, settings)
+        if report is not None:
+            atomic_write_bytes(Path(report), report_yaml(plan).encode())
+        apply_plan(source, exp, result.output, plan, settings, backup=backup)
+    return plan
 
 
 def _format(result: FixResult) -> DescriptionFormat:

@@ -72,6 +72,21 @@ def current_settings() -> XacroSettings:
     return _settings
 
 
+@contextlib.contextmanager
+def settings_for(args: Mapping[str, str] | None = None,
+                 package_dirs: Mapping[str, str | Path] | None = None,
+                 ) -> Iterator[XacroSettings]:
+    """Expansions inside the ``with`` block use ``args`` and ``package_dirs``; the settings
+    before it are restored after (the library's per-call xacro options)."""
+    global _settings
+    before = _settings
+    configure(args, package_dirs)
+    try:
+        yield _settings
+    finally:
+        _settings = before
+
+
 @dataclass(frozen=True)
 class Expansion:
     """One expansion: the URDF bytes and where each of its elements was written.

@@ -405,3 +405,24 @@ def _inertial_text(new: LinkInertial, indent: bytes, step: bytes, newline: bytes
         indent + b"</inertial>",
     ]
     return newline.join(lines)
+
+
+def report_yaml(plan: Plan) -> str:
+    """The reported links with where each value comes from, for a person to apply."""
+    import yaml
+
+    def note(n) -> dict:  # noqa: ANN001
+        out = {"value": n.slot, "current": n.current, "fixed": n.fixed, "source": n.source,
+               "written_as": n.expression}
+        if n.reason:
+            out["why_not_written"] = n.reason
+        return out
+
+    doc = {
+        "reported": [{"link": o.link, "why": o.detail, "values": [note(n) for n in o.values]}
+                     for o in plan.outcomes if o.status == "reported"],
+        "written": [{"link": o.link, "where": o.detail}
+                    for o in plan.outcomes if o.status == "written"],
+        "unchanged": [o.link for o in plan.outcomes if o.status == "unchanged"],
+    }
+    return yaml.safe_dump(doc, sort_keys=False, width=100)
