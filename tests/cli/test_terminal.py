@@ -113,3 +113,18 @@ def test_fix_as_a_filter_still_prints_the_document(tmp_path, capsys):
     urdf.write_text('<robot name="r"><link name="a"/></robot>')
     assert main(["fix", str(urdf), "-q"]) == 0
     assert capsys.readouterr().out.startswith('<robot name="r">')
+
+
+def test_check_of_a_clean_fix_prints_one_line_not_an_empty_table(tmp_path, capsys,
+                                                                  monkeypatch):
+    robots = Path(__file__).parents[2] / "robots"
+    fixed = tmp_path / "nm7mar.fixed.urdf"
+    assert main(["fix", str(robots / "nm7mar.urdf"), "--spec",
+                 str(robots / "nm7mar.inertia.toml"), "-q", "-o", str(fixed)]) == 0
+    capsys.readouterr()
+    monkeypatch.setenv("COLUMNS", "100")
+    assert main(["check", str(fixed)]) == 0
+    out = capsys.readouterr().out
+    assert "urdf-inertia fix (default) on nm7mar: all 4 link(s) would be kept as written" \
+        in out
+    assert "+--" not in out and "|" not in out  # no table when nothing is to be said

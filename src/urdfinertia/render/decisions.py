@@ -51,10 +51,13 @@ def _worth_listing(r: LinkResult) -> bool:
         f.severity != "info" for f in r.findings)
 
 
-def plan_table(verdicts: Sequence[LinkResult], title: str) -> Table:
+def plan_table(verdicts: Sequence[LinkResult], title: str) -> Table | str:
     """What ``fix`` would do with each link it would change, or that has findings or was
-    not verified; a count of the plausible links kept as written."""
+    not verified; a count of the plausible links kept as written. One line instead of an
+    empty table when every link would be kept as written."""
     quiet = sum(not _worth_listing(r) for r in verdicts)
+    if quiet == len(verdicts):
+        return f"{title}: all {quiet} link(s) would be kept as written"
     table = Table(title=title, caption=f"{quiet} other link(s) would be kept as written")
     for col in ("link", "fix would"):
         table.add_column(col, overflow="fold")
