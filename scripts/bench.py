@@ -178,10 +178,12 @@ def snapshot_ref(ref: str, dest: Path) -> Path:
     return dest
 
 
-def run_child(args: list[str], code: Path) -> tuple[float, dict]:
+def run_child(args: list[str], code: Path, script: str = __file__) -> tuple[float, dict]:
+    """Run ``script`` (this one by default) with ``args`` on the package at ``code``: its
+    wall time and the JSON of its last line."""
     env = dict(os.environ, PYTHONPATH=str(code))
     start = time.perf_counter()
-    proc = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True,
+    proc = subprocess.run([sys.executable, script, *args], capture_output=True, text=True,
                           env=env)
     wall = time.perf_counter() - start
     if proc.returncode != 0:

@@ -30,7 +30,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -101,14 +100,8 @@ def child_meshes(robots: Path) -> dict:
 # ---------------------------------------------------------------------------- parent
 
 def run_child(args: list[str], code: Path) -> tuple[float, dict]:
-    env = dict(os.environ, PYTHONPATH=str(code))
-    start = time.perf_counter()
-    proc = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True,
-                          env=env)
-    wall = time.perf_counter() - start
-    if proc.returncode != 0:
-        sys.exit(f"child {args} failed:\n{proc.stderr}")
-    res = json.loads(proc.stdout.strip().splitlines()[-1])
+    """This script as a child on the package at ``code`` (checked to be the one loaded)."""
+    wall, res = bench.run_child(args, code, __file__)
     if "module" in res:
         assert res["module"].startswith(str(code)), res["module"]
     return wall, res

@@ -12,8 +12,6 @@ from the other folder (the same outputs saved without relocation as the baseline
 from __future__ import annotations
 
 import argparse
-import importlib.util
-import re
 import sys
 import tempfile
 import time
@@ -25,22 +23,12 @@ from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.link.fix import fix_file
 from urdfinertia.link.options import FixOptions
 
-COLLECTIONS = ("dm_control", "robosuite", "gymnasium_robotics", "metaworld")
-_USES_PATHS = re.compile(rb"meshdir|texturedir|assetdir|<include")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from support.corpus import mjcf_models_with_paths  # noqa: E402
 
 
 def models() -> list[Path]:
-    found = []
-    for name in COLLECTIONS:
-        spec = importlib.util.find_spec(name)
-        if spec is None or not spec.submodule_search_locations:
-            continue
-        root = Path(next(iter(spec.submodule_search_locations)))
-        for path in sorted(root.rglob("*.xml")):
-            head = path.read_bytes()
-            if b"<mujoco" in head and _USES_PATHS.search(head):
-                found.append(path)
-    return found
+    return [path for _, path in mjcf_models_with_paths()]
 
 
 def compiles(path: Path) -> str | None:

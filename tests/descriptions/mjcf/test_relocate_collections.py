@@ -10,35 +10,14 @@ another MuJoCo version) is skipped: only what worked must keep working.
 
 from __future__ import annotations
 
-import importlib.util
-import re
-from pathlib import Path
-
 import pytest
+from support.corpus import mjcf_models_with_paths
 
 from urdfinertia.descriptions.formats import relocate_references
 
 mujoco = pytest.importorskip("mujoco")
 
-COLLECTIONS = ("dm_control", "robosuite", "gymnasium_robotics", "metaworld")
-_USES_PATHS = re.compile(rb"meshdir|texturedir|assetdir|<include")
-
-
-def _models() -> list[tuple[str, Path]]:
-    found = []
-    for name in COLLECTIONS:
-        spec = importlib.util.find_spec(name)  # finds the folder, runs nothing
-        if spec is None or not spec.submodule_search_locations:
-            continue
-        root = Path(next(iter(spec.submodule_search_locations)))
-        for path in sorted(root.rglob("*.xml")):
-            head = path.read_bytes()
-            if b"<mujoco" in head and _USES_PATHS.search(head):
-                found.append((f"{name}/{path.relative_to(root).as_posix()}", path))
-    return found
-
-
-MODELS = _models()
+MODELS = mjcf_models_with_paths()
 
 
 @pytest.mark.skipif(not MODELS, reason="no MJCF collection installed (pip install --no-deps "
