@@ -15,7 +15,11 @@ Prints one row per package and, with ``--bodies FILE``, writes one row per body 
 The fixed file is written for MuJoCo next to its input under a temporary name (meshes and
 includes resolve relative to the model's folder) and removed at once.
 
-    python scripts/bench_mjcf.py --corpus /work/corpus/mjcf --packages dm-control,robosuite
+    python scripts/bench_mjcf.py [--packages dm_control,robosuite] [--corpus DIR]
+
+Models: by default every MJCF file of the robot packages found
+(``support.corpus.robot_packages``); ``--corpus DIR`` reads ``DIR/manifest.json`` instead
+(a list of ``{"package": ..., "path": ...}``).
 """
 
 from __future__ import annotations
@@ -169,20 +173,29 @@ HEADER = (
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--corpus", type=Path, default=Path("/work/corpus/mjcf"))
-    p.add_argument("--packages", default="dm-control,robosuite,gymnasium-robotics,metaworld")
+    p.add_argument("--corpus", type=Path, help="a folder with manifest.json")
+    p.add_argument("--packages", help="comma-separated; default: every package found")
     p.add_argument("--bodies", type=Path, help="write per-body rows (TSV) here")
     p.add_argument("--json", type=Path, help="write every row as JSON here")
     args = p.parse_args(argv)
-    manifest = json.loads((args.corpus / "manifest.json").read_text())
-    packages = args.packages.split(",")
+    if args.corpus is not None:
+        manifest = [{"package": e["package"], "path": str(args.corpus / e["path"])}
+                     for e in json.loads((args.corpus / "manifest.json").read_text())]
+    else:
+        sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+        from support.corpus import robot_packages
+
+        manifest = [{"package": pkg, "path": str(f)}
+                    for pkg, files in robot_packages(("mjcf",)).items() for f in files]
+    packages = (args.packages.split(",") if args.packages
+                else list(dict.fromkeys(e["package"] for e in manifest)))
     meshes = MeshLibrary()
     rows: dict[str, list[dict]] = defaultdict(list)
     start = time.perf_counter()
     for entry in manifest:
         if entry["package"] not in packages:
             continue
-        row = run_file(args.corpus / entry["path"], meshes)
+        row = run_file(Path(entry["path"]), meshes)
         rows[entry["package"]].append(row)
         status = row.get("input") and "input does not load" or row.get("fix")
         print(f"{entry['path']}: {status}", file=sys.stderr, flush=True)

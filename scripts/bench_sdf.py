@@ -2,10 +2,12 @@
 
 Usage::
 
-    .venv/bin/python scripts/bench_sdf.py [--corpus /work/corpus/sdf] [--seed 7]
+    .venv/bin/python scripts/bench_sdf.py [--corpus DIR] [--seed 7]
 
-Part 1, the SDF corpus (``manifest.json`` of the corpus folder: the SDF files of the PyPI
-packages drake, manipulation, underactuated, pybullet, gym-ignition-models): runs our
+Part 1, the SDF corpus (``--corpus DIR``: a folder with a ``manifest.json`` list of
+``{"path": ...}``; by default every SDF file of the robot packages found,
+``support.corpus.robot_packages``: drake, pybullet_data, example-robot-data and the wheels
+``scripts/gather_corpus.py`` unpacks): runs our
 ``fix`` (exit code) and Drake's ``fix_inertia`` on every file, parses the original and both
 outputs with Drake, and compares per link the mass, the CoM and the inertia about the CoM
 that Drake reads from each output. Both keep each link's mass and spread it uniformly
@@ -77,17 +79,27 @@ def compare(a: dict, b: dict) -> tuple[float, float, float]:
     return dm, dc, di
 
 
-def corpus(folder: Path, tmp: Path) -> None:
-    entries = json.loads((folder / "manifest.json").read_text())
+def corpus_files(folder: Path | None) -> list[tuple[str, Path]]:
+    """(name, path) of each SDF file: ``folder``'s manifest, else the robot packages."""
+    if folder is not None:
+        entries = json.loads((folder / "manifest.json").read_text())
+        return [(e["path"], folder / e["path"]) for e in entries]
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from support.corpus import robot_packages
+
+    return [(f"{pkg}/{p.name}", p) for pkg, files in robot_packages(("sdf",)).items()
+            for p in files]
+
+
+def corpus(files: list[tuple[str, Path]], tmp: Path) -> None:
     rows, jobs = [], []
-    for i, entry in enumerate(entries):
-        src = folder / entry["path"]
+    for i, (name, src) in enumerate(files):
         ours = tmp / f"ours{i}.sdf"
         theirs = tmp / f"drake{i}.sdf"
         code, err = run_ours(src, ours)
         pk = packages_of(src)
         rows.append({"src": src, "ours": ours, "theirs": theirs, "code": code, "err": err,
-                     "packages": pk, "name": entry["path"]})
+                     "packages": pk, "name": name})
         jobs += [{"parse": str(src), "packages": pk}, {"parse": str(ours), "packages": pk},
                  {"fix": str(src), "out": str(theirs)}]
     answers = drake_batch(jobs)
@@ -218,16 +230,17 @@ def damaged(tmp: Path, seed: int) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--corpus", type=Path, default=Path("/work/corpus/sdf"))
+    p.add_argument("--corpus", type=Path, help="a folder with manifest.json")
     p.add_argument("--seed", type=int, default=7)
     args = p.parse_args(argv)
     if drake_python() is None:
         raise SystemExit("no Python with pydrake: set URDFINERTIA_DRAKE_PYTHON")
     with tempfile.TemporaryDirectory() as tmp:
-        if (args.corpus / "manifest.json").is_file():
-            corpus(args.corpus, Path(tmp))
+        files = corpus_files(args.corpus)
+        if files:
+            corpus(files, Path(tmp))
         else:
-            print(f"no corpus at {args.corpus}: part 1 skipped")
+            print("no SDF files found: part 1 skipped")
         damaged(Path(tmp), args.seed)
     return 0
 

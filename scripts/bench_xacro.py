@@ -4,9 +4,10 @@ Usage::
 
     PYTHONPATH=src python scripts/bench_xacro.py [LIST_OR_FOLDER ...] [--no-plan]
 
-Inputs: the tab-separated list of xacro files the corpus helpers keep
-(``/work/corpus/urdf/xacro_files.txt``, path in the third column, default) and/or folders
-searched for ``*.xacro``; example-robot-data's xacro files are added when it is installed.
+Inputs: tab-separated lists of xacro files (path in the third column) and/or folders
+searched for ``*.xacro``; by default every xacro file of the robot packages found
+(``support.corpus.robot_packages``: installed ones and ``scripts/gather_corpus.py``'s);
+example-robot-data's xacro files are added when it is installed.
 Nothing is written: ``fix`` runs in memory and write-back is planned, not applied.
 
 Printed: files; expanded OK (with and without links: a macro library has none); xacro
@@ -25,8 +26,6 @@ import time
 import traceback
 from collections import Counter
 from pathlib import Path
-
-DEFAULT_LIST = Path("/work/corpus/urdf/xacro_files.txt")
 
 _CAUSES = [
     ("package not found", "package not found ($(find) of a package not shipped)"),
@@ -93,7 +92,7 @@ def expansion_times(path: Path, expand_xacro) -> tuple[float, float]:  # noqa: A
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("inputs", nargs="*", default=[str(DEFAULT_LIST)])
+    ap.add_argument("inputs", nargs="*")
     ap.add_argument("--no-plan", action="store_true", help="skip write-back planning")
     args = ap.parse_args(argv)
 
@@ -107,7 +106,13 @@ def main(argv: list[str] | None = None) -> int:
     from urdfinertia.link.fix import fix_robot
     from urdfinertia.link.options import FixOptions
 
-    files = inputs(args.inputs)
+    if args.inputs:
+        files = inputs(args.inputs)
+    else:
+        sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+        from support.corpus import robot_packages
+
+        files = inputs([str(f) for fs in robot_packages(("xacro",)).values() for f in fs])
     counts: Counter[str] = Counter()
     xacro_errors: Counter[str] = Counter()
     fix_errors: Counter[str] = Counter()
