@@ -21,12 +21,16 @@ import math
 from dataclasses import dataclass
 
 #: Upper edges of the centroid-to-CoM offset bins, fractions of the box diagonal.
-OFFSET_EDGES = (0.01, 0.03, 0.06, 0.10)
-#: 80th percentile of the relative tensor error in each offset bin (one more than edges:
-#: the last is beyond 10 %), calibrated by ``scripts/bench_cad.py --calibrate`` on 399
-#: de-duplicated CAD links of 12 packages (docs: the error bar): not monotonic in the
-#: offset on these robots, so the offset sets the band only within the measured spread.
-OFFSET_P80 = (0.60, 0.45, 0.58, 0.49, 0.79)
+OFFSET_EDGES = (0.03, 0.08)
+#: 80th percentile of the relative tensor error per kind of geometry
+#: (:data:`urdfinertia.link.geometry_choice.KINDS`) and offset bin (one more than the
+#: edges: the last is beyond them), calibrated by ``scripts/bench_cad.py --calibrate``
+#: (docs: the error bar).
+KIND_OFFSET_P80: dict[str, tuple[float, ...]] = {
+    "primitive": (0.60, 0.58, 0.79),
+    "hull": (0.60, 0.58, 0.79),
+    "mesh": (0.60, 0.58, 0.79),
+}
 #: 80th percentile of the error when the CoM is derived too (only 6 such links measured;
 #: a wider set of 846 links gave p75 47 %, p90 76 %).
 MODEL_P80 = 0.81
@@ -39,33 +43,50 @@ class ErrorBar:
     """Expected relative error of a derived tensor against CAD (Frobenius, about the CoM).
 
     band : the error stays below this fraction for :data:`BAND_LEVEL` of links.
-    basis : "offset" (from the centroid-to-CoM offset) or "model" (CoM not known).
+    basis : "offset" (from the kind of geometry and the centroid-to-CoM offset) or
+        "model" (CoM not known).
     offset : centroid-to-CoM offset as a fraction of the box diagonal (None for "model").
+    kind : the kind of geometry the tensor came from ("primitive", "hull", "mesh"; None
+        when not known).
     """
 
     band: float
     basis: str
     offset: float | None = None
+    kind: str | None = None
 
     def __str__(self) -> str:
-        why = (f"centroid {100 * self.offset:.1f} % of the box diagonal from the kept CoM"
-               if self.offset is not None else "homogeneous model, CoM not known")
+        from urdfinertia.link.geometry_choice import KIND_WORDS
+
+        what = f"{KIND_WORDS[self.kind]}, " if self.kind is not None else ""
+        why = (f"{what}centroid {100 * self.offset:.1f} % of the box diagonal from the "
+               "kept CoM" if self.offset is not None else "homogeneous model, CoM not known")
         return f"tensor within ±{100 * self.band:.0f} % of CAD ({100 * BAND_LEVEL:.0f} %: {why})"
 
     def as_dict(self) -> dict[str, object]:
         return {"band": self.band, "level": BAND_LEVEL, "basis": self.basis,
-                "offset": self.offset}
+                "offset": self.offset, "kind": self.kind}
 
 
-def offset_band(offset: float) -> float:
-    """The calibrated band for a centroid-to-CoM offset (fraction of the box diagonal)."""
-    for edge, band in zip(OFFSET_EDGES, OFFSET_P80, strict=False):
+def offset_bin(offset: float) -> int:
+    """The index of the offset bin holding ``offset`` (fraction of the box diagonal)."""
+    for i, edge in enumerate(OFFSET_EDGES):
         if offset < edge:
-            return band
-    return OFFSET_P80[-1]
+            return i
+    return len(OFFSET_EDGES)
 
 
-def tensor_error_bar(centroid_offset: float | None, diagonal: float | None) -> ErrorBar:
+def offset_band(offset: float, kind: str | None = None) -> float:
+    """The calibrated band for a kind of geometry and a centroid-to-CoM offset (fraction
+    of the box diagonal); an unknown kind takes the widest band of its bin."""
+    i = offset_bin(offset)
+    if kind in KIND_OFFSET_P80:
+        return KIND_OFFSET_P80[kind][i]
+    return max(bands[i] for bands in KIND_OFFSET_P80.values())
+
+
+def tensor_error_bar(centroid_offset: float | None, diagonal: float | None,
+                     kind: str | None = None) -> ErrorBar:
     """The error bar of a derived tensor.
 
     Parameters
@@ -75,9 +96,11 @@ def tensor_error_bar(centroid_offset: float | None, diagonal: float | None) -> E
         derived from the geometry too.
     diagonal : float or None
         The geometry's bounding-box diagonal, m.
+    kind : str or None
+        The kind of geometry integrated ("primitive", "hull", "mesh").
     """
     if centroid_offset is None or diagonal is None or not (
             math.isfinite(diagonal) and diagonal > 0):
-        return ErrorBar(MODEL_P80, "model")
+        return ErrorBar(MODEL_P80, "model", kind=kind)
     rel = centroid_offset / diagonal
-    return ErrorBar(offset_band(rel), "offset", rel)
+    return ErrorBar(offset_band(rel, kind), "offset", rel, kind)
