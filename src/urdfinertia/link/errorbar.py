@@ -22,14 +22,13 @@ from dataclasses import dataclass
 
 #: Upper edges of the centroid-to-CoM offset bins, fractions of the box diagonal.
 OFFSET_EDGES = (0.03, 0.08)
-#: 80th percentile of the relative tensor error per kind of geometry
-#: (:data:`urdfinertia.link.geometry_choice.KINDS`) and offset bin (one more than the
-#: edges: the last is beyond them), calibrated by ``scripts/bench_cad.py --calibrate``
-#: (docs: the error bar).
-KIND_OFFSET_P80: dict[str, tuple[float, ...]] = {
-    "primitive": (0.60, 0.58, 0.79),
-    "hull": (0.60, 0.58, 0.79),
-    "mesh": (0.60, 0.58, 0.79),
+#: 80th percentile of the relative tensor error by (kind of geometry, role, offset bin):
+#: kind as :data:`urdfinertia.link.geometry_choice.KINDS`, role "collision" or "visual"
+#: (None: every role), bin as :func:`offset_bin`; (None, None, bin) is every kind. Fitted
+#: by ``scripts/bench_cad.py --calibrate`` (docs: the error bar); a cell with too few
+#: links is left out and takes the coarser cell's band.
+BANDS: dict[tuple[str | None, str | None, int], float] = {
+    (None, None, 0): 0.60, (None, None, 1): 0.58, (None, None, 2): 0.79,
 }
 #: 80th percentile of the error when the CoM is derived too (only 6 such links measured;
 #: a wider set of 846 links gave p75 47 %, p90 76 %).
@@ -76,17 +75,24 @@ def offset_bin(offset: float) -> int:
     return len(OFFSET_EDGES)
 
 
-def offset_band(offset: float, kind: str | None = None) -> float:
-    """The calibrated band for a kind of geometry and a centroid-to-CoM offset (fraction
-    of the box diagonal); an unknown kind takes the widest band of its bin."""
-    i = offset_bin(offset)
-    if kind in KIND_OFFSET_P80:
-        return KIND_OFFSET_P80[kind][i]
-    return max(bands[i] for bands in KIND_OFFSET_P80.values())
+def band_key(kind: str | None, role: str | None) -> tuple[str | None, str | None]:
+    """(kind, role) as :data:`BANDS` keys them: MuJoCo's counted geoms are "collision"."""
+    return kind, None if role is None else ("visual" if role == "visual" else "collision")
+
+
+def lookup_band(bands: dict[tuple[str | None, str | None, int], float], kind: str | None,
+                role: str | None, offset: float) -> float:
+    """The band of the finest cell of ``bands`` holding (kind, role, offset bin)."""
+    kind, role = band_key(kind, role)
+    b = offset_bin(offset)
+    for key in ((kind, role, b), (kind, None, b), (None, None, b)):
+        if key in bands:
+            return bands[key]
+    return max(bands.values())
 
 
 def tensor_error_bar(centroid_offset: float | None, diagonal: float | None,
-                     kind: str | None = None) -> ErrorBar:
+                     kind: str | None = None, role: str | None = None) -> ErrorBar:
     """The error bar of a derived tensor.
 
     Parameters
@@ -96,11 +102,12 @@ def tensor_error_bar(centroid_offset: float | None, diagonal: float | None,
         derived from the geometry too.
     diagonal : float or None
         The geometry's bounding-box diagonal, m.
-    kind : str or None
-        The kind of geometry integrated ("primitive", "hull", "mesh").
+    kind, role : str or None
+        The kind of geometry integrated ("primitive", "hull", "mesh") and its role
+        ("collision", "visual", "geom"); None when not known.
     """
     if centroid_offset is None or diagonal is None or not (
             math.isfinite(diagonal) and diagonal > 0):
         return ErrorBar(MODEL_P80, "model", kind=kind)
     rel = centroid_offset / diagonal
-    return ErrorBar(offset_band(rel, kind), "offset", rel, kind)
+    return ErrorBar(lookup_band(BANDS, kind, role, rel), "offset", rel, kind)
