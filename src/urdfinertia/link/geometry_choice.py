@@ -13,6 +13,8 @@ Each candidate set is integrated at unit density and judged on what the link sti
 2. a plausible implied density (kept mass over volume within
    :data:`~urdfinertia.link.options.PLAUSIBLE_DENSITY`): a volume that no material fills
    with the kept mass is not the body;
+   With no mass kept, an MJCF body's own geoms (what MuJoCo computes with, materials
+   included) are used;
 3. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
    (:data:`KINDS`); a mesh is a hull when its volume is within :data:`CONVEX_RATIO` of its
    convex hull's;
@@ -229,6 +231,11 @@ def choose(candidates: Sequence[Candidate], mass: float | None, com: np.ndarray 
     if whole and len(whole) < len(pool):
         pool = whole
         reasons.append("every element read")
+    own = [c for c in pool if c.role == "geom"]
+    if mass is None and own:
+        # nothing kept to judge by: the geoms and materials MuJoCo itself computes with
+        pool = own
+        reasons.append("the geoms MuJoCo counts, no mass kept")
     fits = [c for c in pool if plausible(c)]
     if fits and len(fits) < len(pool):
         pool = fits
