@@ -12,7 +12,7 @@ import pytest
 from urdfinertia.cli import main
 from urdfinertia.descriptions.model import Box, GeometryRef, Mesh, Origin
 from urdfinertia.link.fix import fix_file
-from urdfinertia.link.geometry_choice import OFFSET_OVERRIDE, Candidate, choose
+from urdfinertia.link.geometry_choice import Candidate, choose
 from urdfinertia.link.options import FixOptions, weighable
 from urdfinertia.link.results import Status
 
@@ -51,16 +51,15 @@ def test_implausible_density_loses_to_any_plausible_one():
     assert "implied density plausible" in why.why
 
 
-def test_centroid_far_from_the_kept_com_overrides_the_kind():
-    far = OFFSET_OVERRIDE + 0.2
-    mesh = _candidate("visual", "mesh", 1e-3, centroid=(far, 0, 0))
-    box = _candidate("collision", "primitive", 1e-3, centroid=(0.01, 0, 0))
-    best, why = choose([mesh, box], 2.0, np.zeros(3))
-    assert best is box and "centroid nearest the kept CoM" in why.why
+def test_centroid_nearest_the_kept_com_among_the_same_kind():
+    far = _candidate("collision", "mesh", 1e-3, centroid=(0.3, 0, 0))
+    near = _candidate("visual", "mesh", 1e-3, centroid=(0.01, 0, 0))
+    best, why = choose([far, near], 2.0, np.zeros(3))
+    assert best is near and why.why == "centroid nearest the kept CoM"
     assert why.offset == pytest.approx(0.01)
-    # a small difference does not
-    near = _candidate("visual", "mesh", 1e-3, centroid=(OFFSET_OVERRIDE / 2, 0, 0))
-    assert choose([near, box], 2.0, np.zeros(3))[0] is near
+    # a far centroid does not hand the choice to a less faithful kind (measured worse)
+    box = _candidate("collision", "primitive", 1e-3, centroid=(0.0, 0, 0))
+    assert choose([far, box], 2.0, np.zeros(3))[0] is far
 
 
 def test_a_whole_set_beats_one_with_an_element_dropped():

@@ -18,10 +18,9 @@ Each candidate set is integrated at unit density and judged on what the link sti
 3. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
    (:data:`KINDS`); a mesh is a hull when its volume is within :data:`CONVEX_RATIO` of its
    convex hull's;
-4. the centroid nearest the kept CoM (as a fraction of the set's box diagonal); a
-   less faithful kind wins only when its centroid is nearer by more than
-   :data:`OFFSET_OVERRIDE` of the diagonal (the faithful set then disagrees with where
-   the mass is).
+4. among sets of that kind, the centroid nearest the kept CoM (as a fraction of each
+   set's box diagonal). Measured (``scripts/bench_cad.py``), letting a far centroid hand
+   the choice to a less faithful kind made the error worse, at any threshold tried.
 
 The result says which set was used and why (:class:`GeometryChoice`).
 """
@@ -51,9 +50,6 @@ KIND_WORDS = {"primitive": "primitive stand-ins", "hull": "convex hull",
               "mesh": "detailed mesh"}
 #: A mesh whose volume is at least this fraction of its convex hull's is (taken as) a hull.
 CONVEX_RATIO = 0.97
-#: A less faithful candidate wins when its centroid is nearer the kept CoM by more than
-#: this fraction of the box diagonal.
-OFFSET_OVERRIDE = 0.10
 
 
 @dataclass(frozen=True, eq=False)
@@ -244,19 +240,14 @@ def choose(candidates: Sequence[Candidate], mass: float | None, com: np.ndarray 
     pool.sort(key=lambda c: -rank[c.kind])
     best = pool[0]
     if len(pool) > 1:
-        nearer = [c for c in pool[1:] if offset(c) is not None and offset(best) is not None
-                  and offset(c) + OFFSET_OVERRIDE < offset(best)]  # type: ignore[operator]
-        if nearer:
-            best = min(nearer, key=lambda c: offset(c))  # type: ignore[arg-type, return-value]
+        ties = [c for c in pool if c.kind == best.kind]
+        if len(ties) < len(pool):
+            worse = pool[len(ties)].kind
+            reasons.append(f"{KIND_WORDS[best.kind]} over {KIND_WORDS[worse]}")
+        with_offset = [c for c in ties if offset(c) is not None]
+        if len(with_offset) > 1:
+            best = min(with_offset, key=lambda c: offset(c))  # type: ignore[arg-type, return-value]
             reasons.append("centroid nearest the kept CoM")
-        elif rank[best.kind] > rank[pool[1].kind]:
-            reasons.append(f"{KIND_WORDS[best.kind]} over {KIND_WORDS[pool[1].kind]}")
-        else:
-            ties = [c for c in pool if c.kind == best.kind]
-            with_offset = [c for c in ties if offset(c) is not None]
-            if len(with_offset) > 1:
-                best = min(with_offset, key=lambda c: offset(c))  # type: ignore[arg-type, return-value]
-                reasons.append("centroid nearest the kept CoM")
     if len(candidates) == 1:
         reasons = ["the only geometry"]
     elif not reasons:
