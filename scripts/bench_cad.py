@@ -1,21 +1,28 @@
 """How close the default ``fix`` comes to CAD tensors, and whether its error bar is honest.
 
-Over the robot packages found (example-robot-data, and every package folder under
-``/work/corpus/urdf`` when present), each link whose inertial ``check`` finds plausible
-(no error or warning), with geometry, is a CAD sample. Links are de-duplicated across
-robots and mirrored twins (same mass and principal moments to 6 digits).
+Over every robot package found (``support.corpus.robot_packages``: URDF, SDFormat and
+MJCF), each link whose inertial ``check`` finds plausible (no error or warning), with
+geometry, is a CAD sample. Links are de-duplicated across robots and mirrored twins (same
+mass and principal moments to 6 digits).
 
 1. With the CAD values in place, the default ``fix`` must keep every such link: the count
    it changed is printed (target 0).
-2. Each sample's tensor is withheld (zeroed; mass and CoM kept) and the default ``fix`` run:
-   printed are the median, p75 and p90 of the relative Frobenius error of the derived
-   tensor about the CoM, how often the CoM was kept exactly, and how often the error is
-   inside the stated 80 % band, per package and pooled.
+2. Each sample's tensor is withheld (zeroed; mass and CoM kept) and the default ``fix`` run.
+   Per package and pooled: the median and p90 of the relative Frobenius error of the
+   derived tensor about the CoM, and how often the error is inside the stated 80 % band.
+   Side by side, on the same links:
 
-``--calibrate`` also prints each offset bin's 80th percentile (the constants of
-``urdfinertia.link.errorbar``), on half of the packages, with the coverage on the others.
+   - ``prev``: the previous choice (MuJoCo's counted geoms, else collision, else visual;
+     the visuals only when no collision element can be read);
+   - ``mujoco``: MuJoCo's own inertia from geoms (``inertiafromgeom="true"``), scaled to
+     the CAD mass (MJCF files only; bodies MuJoCo gives mass).
 
-Usage: ``nice python scripts/bench_cad.py [--max-files N] [--calibrate]``
+``--calibrate`` fits the 80th percentile of the error per kind of geometry, role and
+centroid-to-CoM offset bin (the constants of ``urdfinertia.link.errorbar``), with the
+coverage of each package under bands fitted on the other packages (leave one package
+out), then on all packages.
+
+Usage: ``nice python scripts/bench_cad.py [--max-files N] [--calibrate] [--packages P ...]``
 """
 
 from __future__ import annotations
@@ -23,39 +30,39 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
-import zlib
 from collections import defaultdict
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
 from urdfinertia.analysis.check import check_robot
-from urdfinertia.cache.library import MeshLibrary
+from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
+from urdfinertia.descriptions.model import Link, Robot
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.errorbar import OFFSET_EDGES
+from urdfinertia.link import geometry_choice
+from urdfinertia.link.errorbar import (
+    BAND_LEVEL,
+    OFFSET_EDGES,
+    band_key,
+    lookup_band,
+    offset_bin,
+)
 from urdfinertia.link.fix import fix_robot
-from urdfinertia.link.options import FixOptions
+from urdfinertia.link.options import FixOptions, select_geometry, weighable
 
-CORPUS = Path("/work/corpus/urdf")
+FORMATS = ("urdf", "sdf", "mjcf")
+#: Fewer samples than this in a (kind, role, bin) cell: the cell takes its kind's band.
+MIN_CELL = 12
 
 
 def packages() -> dict[str, list[Path]]:
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-    from support.corpus import example_robot_data_dir
+    from support.corpus import robot_packages
 
-    out: dict[str, list[Path]] = {}
-    erd = example_robot_data_dir()
-    if erd is not None:
-        out["example-robot-data"] = sorted((erd / "robots").rglob("*.urdf"))
-    if CORPUS.is_dir():
-        for d in sorted(CORPUS.iterdir()):
-            if d.is_dir() and not d.name.startswith("_") and d.name != "example-robot-data":
-                files = sorted(d.rglob("*.urdf"))
-                if files:
-                    out[d.name] = files
-    return out
+    return robot_packages(FORMATS)
 
 
 def package_dirs(package: str, path: Path) -> dict[str, Path]:
@@ -68,9 +75,75 @@ def package_dirs(package: str, path: Path) -> dict[str, Path]:
 class Sample:
     package: str
     error: float
-    com_kept: bool
     band: float
     offset: float | None
+    kind: str
+    role: str
+    prev: float | None = None  # the previous choice's error
+    mujoco: float | None = None  # MuJoCo's inertia from geoms, scaled to the CAD mass
+
+    @property
+    def key(self) -> tuple[str, str, int | None]:
+        return (*band_key(self.kind, self.role), None if self.offset is None
+                else offset_bin(self.offset))
+
+
+def _previous_sets(link: Link) -> list[tuple[str, tuple]]:
+    role, refs = select_geometry(link, "auto")
+    sets = [(role, refs)] if refs else []
+    if role == "collision" and link.visuals:
+        sets.append(("visual", weighable(link.visuals)))
+    return sets
+
+
+_CHOOSE = geometry_choice.choose
+
+
+def _first(candidates, mass, com):  # type: ignore[no-untyped-def]
+    best = candidates[0]
+    return best, _CHOOSE([best], mass, com)[1]
+
+
+def run_fix(robot: Robot, data: bytes, meshes: MeshLibrary, previous: bool):  # type: ignore[no-untyped-def]
+    """The default fix; ``previous``: with the previous choice of geometry."""
+    if not previous:
+        return fix_robot(robot, data, FixOptions(), meshes)
+    saved: tuple[Callable, Callable] = (geometry_choice.candidate_sets, geometry_choice.choose)
+    geometry_choice.candidate_sets = _previous_sets  # type: ignore[assignment]
+    geometry_choice.choose = _first  # type: ignore[assignment]
+    try:
+        return fix_robot(robot, data, FixOptions(), meshes)
+    finally:
+        geometry_choice.candidate_sets, geometry_choice.choose = saved  # type: ignore[assignment]
+
+
+def _mujoco_tensors(path: Path) -> dict[str, tuple[float, np.ndarray]] | None:
+    """Body name -> (mass, tensor about its CoM, body axes) MuJoCo computes from geoms."""
+    try:
+        import mujoco
+    except ImportError:
+        return None
+    try:
+        spec = mujoco.MjSpec.from_file(str(path))
+        spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_TRUE
+        model = spec.compile()
+    except Exception:  # noqa: BLE001  (any file MuJoCo cannot compile: no column)
+        return None
+    out = {}
+    for i in range(1, model.nbody):
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, i)
+        w, x, y, z = model.body_iquat[i]
+        r = np.array([
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+        out[name or f"body#{i}"] = (float(model.body_mass[i]),
+                                    r @ np.diag(model.body_inertia[i]) @ r.T)
+    return out
+
+
+def _err(got: np.ndarray, cad: np.ndarray) -> float:
+    return float(np.linalg.norm(got - cad) / np.linalg.norm(cad))
 
 
 def run_file(package: str, path: Path, seen: set, meshes: MeshLibrary,
@@ -79,11 +152,12 @@ def run_file(package: str, path: Path, seen: set, meshes: MeshLibrary,
     findings = check_robot(robot, meshes=meshes)
     flagged = {f.link for f in findings if f.severity in ("error", "warning")}
     plausible = [lk for lk in robot.links if lk.inertial is not None and lk.name not in flagged
-                 and (lk.collisions or lk.visuals) and lk.inertial.mass > 0]
+                 and (lk.collisions or lk.visuals) and lk.inertial.mass > 0
+                 and lk.read_only is None]
     # 1. CAD values in place: the default fix must keep every plausible link
     result = fix_robot(robot, data, FixOptions(), meshes)
-    changed = sum(r.assembly is not None for r in result.links
-                  if r.name in {lk.name for lk in plausible})
+    names = {lk.name for lk in plausible}
+    changed = sum(r.changed for r in result.links if r.name in names)
     # 2. tensors withheld
     withheld = {}
     for lk in plausible:
@@ -99,58 +173,129 @@ def run_file(package: str, path: Path, seen: set, meshes: MeshLibrary,
     zero = dict(ixx=0.0, ixy=0.0, ixz=0.0, iyy=0.0, iyz=0.0, izz=0.0)
     links = tuple(dataclasses.replace(lk, inertial=dataclasses.replace(lk.inertial, **zero))
                   if lk.name in withheld else lk for lk in robot.links)
-    result = fix_robot(dataclasses.replace(robot, links=links), data, FixOptions(), meshes)
+    damaged = dataclasses.replace(robot, links=links)
+    new = fix_robot(damaged, data, FixOptions(), meshes)
+    old = {r.name: r for r in run_fix(damaged, data, meshes, previous=True).links}
+    engine = _mujoco_tensors(path) if robot.format == "mjcf" else None
+    if DUMP is not None:
+        _dump_candidates(package, path, damaged, withheld, meshes)
     out = []
-    for r in result.links:
+    for r in new.links:
         cad = withheld.get(r.name)
-        if cad is None or r.assembly is None or r.error_bar is None:
+        if cad is None or r.assembly is None or r.error_bar is None or r.choice is None:
             continue
-        got = r.assembly.total
-        err = float(np.linalg.norm(got.inertia - cad.inertia) / np.linalg.norm(cad.inertia))
-        out.append(Sample(package, err, bool(np.array_equal(got.com, cad.com)),
-                          r.error_bar.band, r.error_bar.offset))
+        s = Sample(package, _err(r.assembly.total.inertia, cad.inertia), r.error_bar.band,
+                   r.error_bar.offset, r.choice.kind, r.choice.role)
+        prev = old.get(r.name)
+        if prev is not None and prev.assembly is not None:
+            s.prev = _err(prev.assembly.total.inertia, cad.inertia)
+        if engine is not None and r.name in engine and engine[r.name][0] > 0:
+            mass, tensor = engine[r.name]
+            s.mujoco = _err(tensor * (cad.mass / mass), cad.inertia)
+        out.append(s)
     return out, changed, len(plausible)
 
 
+#: ``--dump``: where every candidate geometry of every sample is written (JSON lines)
+DUMP: Path | None = None
+
+
+def _dump_candidates(package: str, path: Path, robot: Robot, withheld: dict,
+                     meshes: MeshLibrary) -> None:
+    """Each sample's candidate geometries, their features and errors (for tuning)."""
+    import json
+
+    from urdfinertia.link.assemble import assemble
+    from urdfinertia.link.mass import MassSource
+
+    base = path.parent
+    rows = []
+    for link in robot.links:
+        cad = withheld.get(link.name)
+        if cad is None:
+            continue
+        for role, refs in geometry_choice.candidate_sets(link):
+            try:
+                c = geometry_choice.evaluate(link, role, refs, meshes, base)
+                if c is None:
+                    continue
+                got = assemble(list(c.parts), MassSource("kept", cad.mass)).total
+            except (UrdfInertiaError, ValueError):
+                continue
+            rows.append({"package": package, "file": path.name, "link": link.name,
+                         "role": role, "kind": c.kind, "volume": c.volume,
+                         "dropped": len(c.dropped), "diagonal": c.diagonal,
+                         "offset": float(np.linalg.norm(c.centroid - cad.com)),
+                         "mass": cad.mass, "error": _err(got.inertia, cad.inertia)})
+    with open(DUMP, "a") as f:
+        for row in rows:
+            f.write(json.dumps(row) + "\n")
+
+
+def _pct(values: list[float], q: float) -> str:
+    return f"{np.percentile(values, q):6.1%}" if values else f"{'-':>6s}"
+
+
 def line(name: str, s: list[Sample]) -> str:
-    e = np.array([x.error for x in s])
+    e = [x.error for x in s]
     inside = np.mean([x.error <= x.band for x in s])
-    kept = np.mean([x.com_kept for x in s])
-    return (f"{name:32s} {len(s):5d}  {np.median(e):6.1%} {np.percentile(e, 75):6.1%} "
-            f"{np.percentile(e, 90):6.1%}   {kept:6.1%}   {inside:6.1%}")
+    prev = [x.prev for x in s if x.prev is not None]
+    both = [x for x in s if x.mujoco is not None]
+    mj = [x.mujoco for x in both if x.mujoco is not None]
+    ours_mj = [x.error for x in both]
+    return (f"{name:20s} {len(s):5d}  {_pct(e, 50)} {_pct(e, 90)} {inside:6.1%}   "
+            f"{_pct(prev, 50)} {_pct(prev, 90)}   {len(both):4d} {_pct(mj, 50)} "
+            f"{_pct(ours_mj, 50)}")
+
+
+HEADER = (f"{'package':20s} {'links':>5s}  {'median':>6s} {'p90':>6s} {'in 80%':>6s}   "
+          f"{'prev50':>6s} {'prev90':>6s}   {'n mj':>4s} {'mj 50':>6s} {'ours50':>6s}")
+
+
+def fit_bands(samples: list[Sample]) -> dict[tuple, float]:
+    """p80 per (kind, role, bin) cell; cells with few samples take coarser cells'."""
+    cells: dict[tuple, list[float]] = defaultdict(list)
+    for s in samples:
+        if s.offset is None:
+            continue
+        kind, role, b = s.key
+        for key in ((kind, role, b), (kind, None, b), (None, None, b)):
+            cells[key].append(s.error)
+    return {k: float(np.percentile(v, 100 * BAND_LEVEL)) for k, v in cells.items()
+            if len(v) >= MIN_CELL or k[0] is None}
+
+
+def band_of(bands: dict[tuple, float], s: Sample) -> float:
+    if s.offset is None:
+        return s.band  # CoM derived too: the model band, not fitted here
+    return lookup_band(bands, s.kind, s.role, s.offset)
 
 
 def calibrate(samples: list[Sample]) -> None:
-    half = [zlib.crc32(s.package.encode()) % 2 for s in samples]
-    for fold in (0, 1):
-        fit = [s for s, h in zip(samples, half, strict=True) if h == fold]
-        test = [s for s, h in zip(samples, half, strict=True) if h != fold]
-        edges = (0.0, *OFFSET_EDGES, np.inf)
-        bands = []
-        for lo, hi in zip(edges[:-1], edges[1:], strict=True):
-            e = [s.error for s in fit if s.offset is not None and lo <= s.offset < hi]
-            bands.append(float(np.percentile(e, 80)) if e else float("nan"))
-        model = [s.error for s in fit if s.offset is None]
-        p80 = float(np.percentile(model, 80)) if model else float("nan")
-
-        def band(s: Sample, bands=bands, p80=p80) -> float:
-            if s.offset is None:
-                return p80
-            i = int(np.searchsorted(OFFSET_EDGES, s.offset, side="right"))
-            return bands[i]
-
-        cover = np.mean([s.error <= band(s) for s in test]) if test else float("nan")
-        print(f"fold {fold}: fitted on {len(fit)} links; offset-bin p80 "
-              f"{[round(b, 3) for b in bands]}, model p80 {p80:.3f}; "
-              f"coverage on the other {len(test)}: {cover:.1%}")
-    all_bins = []
-    edges = (0.0, *OFFSET_EDGES, np.inf)
-    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
-        e = [s.error for s in samples if s.offset is not None and lo <= s.offset < hi]
-        all_bins.append((len(e), round(float(np.percentile(e, 80)), 3) if e else None))
-    model = [s.error for s in samples if s.offset is None]
-    print(f"pooled: offset-bin (n, p80) {all_bins}; model (n={len(model)}) p80 "
-          f"{np.percentile(model, 80) if model else float('nan'):.3f}")
+    print(f"\ncross-validation by package (bands fitted on the other packages), level "
+          f"{BAND_LEVEL:.0%}, bins {OFFSET_EDGES}:")
+    pooled = []
+    for package in sorted({s.package for s in samples}):
+        fit = [s for s in samples if s.package != package and s.offset is not None]
+        test = [s for s in samples if s.package == package]
+        if not fit:
+            continue
+        inside = [s.error <= band_of(fit_bands(fit), s) for s in test]
+        pooled += inside
+        print(f"  {package:20s} {len(test):5d}  coverage {np.mean(inside):6.1%}")
+    print(f"  {'pooled':20s} {len(pooled):5d}  coverage {np.mean(pooled):6.1%}")
+    bands = fit_bands(samples)
+    print("\nBANDS fitted on all packages (kind, role, offset bin): p80 (n)")
+    counts: dict[tuple, int] = defaultdict(int)
+    for s in samples:
+        if s.offset is not None:
+            kind, role, b = s.key
+            for key in ((kind, role, b), (kind, None, b), (None, None, b)):
+                counts[key] += 1
+    print("BANDS = {")
+    for key, value in sorted(bands.items(), key=str):
+        print(f"    {key!r}: {value:.2f},  # n={counts[key]}")
+    print("}")
 
 
 def main() -> int:
@@ -158,7 +303,11 @@ def main() -> int:
     ap.add_argument("--max-files", type=int, default=0, help="per package (0: all)")
     ap.add_argument("--calibrate", action="store_true")
     ap.add_argument("--packages", nargs="*", default=None, help="only these packages")
+    ap.add_argument("--dump", type=Path, default=None,
+                    help="append every sample's candidate geometries and errors (JSON lines)")
     args = ap.parse_args()
+    global DUMP
+    DUMP = args.dump
     found = packages()
     if not found:
         print("no robot packages found: nothing to measure")
@@ -170,13 +319,15 @@ def main() -> int:
     for package, files in found.items():
         if args.packages is not None and package not in args.packages:
             continue
-        print(f"{package}: {len(files[:args.max_files or None])} file(s)", file=sys.stderr,
-              flush=True)
-        for path in files[:args.max_files or None]:
-            meshes = MeshLibrary(package_dirs(package, path))
+        files = files[:args.max_files or None]
+        print(f"{package}: {len(files)} file(s)", file=sys.stderr, flush=True)
+        for path in files:
+            meshes = mesh_library(package_dirs(package, path))
             try:
                 got, c, p = run_file(package, path, seen, meshes)
-            except (UrdfInertiaError, ValueError, RecursionError):
+            except (UrdfInertiaError, ValueError, RecursionError, OSError) as exc:
+                if not skipped[package]:
+                    print(f"  skipped {path.name}: {exc}", file=sys.stderr)
                 skipped[package] += 1
                 continue
             samples += got
@@ -188,8 +339,10 @@ def main() -> int:
     print(f"CAD values in place: the default fix changed {changed} of {plausible} plausible "
           "links (target 0)")
     print(f"files skipped (unreadable, missing meshes): {dict(skipped)}")
-    print(f"{'package':32s} {'links':>5s}  {'median':>6s} {'p75':>6s} {'p90':>6s}   "
-          f"{'CoM kept':>8s} {'in 80% band':>11s}")
+    print("errors: relative Frobenius, tensor about the CoM; prev: the previous choice "
+          "(collision first); mj: MuJoCo's inertia from geoms scaled to the CAD mass, "
+          "ours50 on the same links")
+    print(HEADER)
     by: dict[str, list[Sample]] = defaultdict(list)
     for s in samples:
         by[s.package].append(s)
@@ -197,6 +350,12 @@ def main() -> int:
         print(line(package, s))
     if samples:
         print(line("pooled", samples))
+        kinds: dict[str, list[Sample]] = defaultdict(list)
+        for s in samples:
+            kinds[f"{s.kind}/{s.role}"].append(s)
+        print("\nby geometry used:")
+        for k, s in sorted(kinds.items()):
+            print(line(k, s))
     if args.calibrate and samples:
         calibrate(samples)
     return 0

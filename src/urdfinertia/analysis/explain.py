@@ -33,6 +33,7 @@ from urdfinertia.inertia.massprops import MassProperties, combine
 from urdfinertia.link.assemble import PartResult
 from urdfinertia.link.compute import compute_link
 from urdfinertia.link.fix import link_verdict
+from urdfinertia.link.geometry_choice import GeometryChoice
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.policy import every_link
 from urdfinertia.link.results import LinkResult
@@ -91,6 +92,8 @@ class Breakdown:
     geometry_total: MassProperties | None = None
     decision: str = ""
     verdict: LinkResult | None = None
+    #: which geometry the parts are, and why (``--geometry auto`` chooses per link)
+    choice: GeometryChoice | None = None
 
 
 def _share(inertia_link: np.ndarray, moments: np.ndarray, axes: np.ndarray) -> np.ndarray:
@@ -146,7 +149,8 @@ def link_breakdown(result: LinkResult, verdict: LinkResult | None = None) -> Bre
     total_moments, total_axes = total.principal()
     return Breakdown(result.name, result.geometry, str(result.assembly.mass_source), total,
                      total_moments, total_axes, tuple(elements), result.warnings,
-                     geometry_total=own, decision=verdict.decision, verdict=verdict)
+                     geometry_total=own, decision=verdict.decision, verdict=verdict,
+                     choice=result.choice)
 
 
 def explain_link(robot: Robot, name: str, options: FixOptions | None = None,
@@ -211,6 +215,7 @@ def breakdown_dict(b: Breakdown) -> dict[str, Any]:
                       "parts": [contribution_dict(p) for p in e.parts]} for e in b.elements],
         "warnings": list(b.warnings),
         "decision": b.decision,
+        "geometry_choice": b.choice.as_dict() if b.choice is not None else None,
         "geometry_total": None if b.geometry_total is None else {
             "mass": b.geometry_total.mass, "com": b.geometry_total.com.tolist(),
             "inertia": _tensor(b.geometry_total.inertia)},

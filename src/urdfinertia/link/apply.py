@@ -68,11 +68,15 @@ def _apply(link: Link, decision: Decision, options: FixOptions, meshes: MeshSour
         return LinkResult(link.name, Status.KEPT, "as written", None, link.inertial,
                           problems=problems, decision=decision.describe(), kept=written)
     if decision.action == "leave":
-        return LinkResult(link.name, Status.UNTOUCHED, "none", None, link.inertial,
-                          problems=problems, decision=decision.describe(), kept=written)
+        # a placeholder that cannot be derived is left, never silently (exit 1)
+        status = Status.LEFT if decision.unresolved else Status.UNTOUCHED
+        return LinkResult(link.name, status, "none", None, link.inertial,
+                          problems=problems, decision=decision.describe(), kept=written,
+                          reason=decision.why if decision.unresolved else None)
     if decision.action == "repair":
         return replace(_repair(link, decision, options), problems=problems)
-    r = compute_link(link, options, meshes, urdf_dir, problems, trust_mass=decision.keep_mass)
+    r = compute_link(link, options, meshes, urdf_dir, problems, trust_mass=decision.keep_mass,
+                     plausible_only=decision.plausible_only)
     if r.status == Status.LEFT:
         return replace(r, decision=f"left as it was: {r.reason}", kept=written)
     if r.assembly is None:  # no geometry (--all or --links): as before the policy
@@ -87,10 +91,11 @@ def _apply(link: Link, decision: Decision, options: FixOptions, meshes: MeshSour
         assembly = Assembly(MassProperties(total.mass, com, total.inertia), assembly.parts,
                             assembly.mass_source)
         kept += ("com",)
-    diagonal = None
-    if decision.bounds is not None:
+    diagonal = r.choice.diagonal if r.choice is not None else None
+    if diagonal is None and decision.bounds is not None:
         diagonal = float(np.linalg.norm(decision.bounds[1] - decision.bounds[0]))
-    error_bar = None if r.geometry == "spec" else tensor_error_bar(offset, diagonal)
+    error_bar = None if r.geometry == "spec" else tensor_error_bar(
+        offset, diagonal, *((r.choice.kind, r.choice.role) if r.choice is not None else ()))
     return replace(r, assembly=assembly, decision=decision.describe(), kept=kept,
                    derived=tuple(v for v in VALUES if v not in kept), error_bar=error_bar)
 

@@ -16,14 +16,20 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
+from urdfinertia.link.options import (
+    PLAUSIBLE_DENSITY,
+    FixOptions,
+    select_geometry,
+    weighable,
+)
 from urdfinertia.link.results import LinkResult, Status
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
-    from urdfinertia.descriptions.model import GeometryRef, Link, Problem
+    from urdfinertia.descriptions.model import Link, Problem
     from urdfinertia.link.assemble import Assembly
+    from urdfinertia.link.geometry_choice import Candidate, GeometryChoice
     from urdfinertia.link.parts import MeshSource, Part
 
 # The computing modules (numpy, lxml, the mesh readers) are imported by the functions that
@@ -31,7 +37,8 @@ if TYPE_CHECKING:
 
 
 def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: Path,
-                 problems: Sequence[Problem] = (), *, trust_mass: bool = True) -> LinkResult:
+                 problems: Sequence[Problem] = (), *, trust_mass: bool = True,
+                 plausible_only: bool = False) -> LinkResult:
     """Recompute one link, or report why it stays untouched or is left as it was.
 
     ``trust_mass=False``: the written mass is not kept even with ``options.mass == "keep"``
@@ -39,8 +46,12 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
 
     ``problems``: what the reader already read past in this link (dropped elements,
     ignored values); they are reported with the link's result.
+
+    ``plausible_only``: derive only from geometry whose implied density (kept mass over
+    volume) is plausible; with none, the link is left as it was.
     """
     from urdfinertia.link.assemble import assemble
+    from urdfinertia.link.geometry_choice import usable_parts
     from urdfinertia.link.mass import link_mass_source
 
     if options.keep_auto and link.auto_inertial:
@@ -48,6 +59,7 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
                           ("auto inertia kept (--keep-auto): the simulator computes it",
                            *link.notes))
     spec = options.spec
+    chosen = None
     link_spec = spec.link(link.name) if spec is not None else None
     found = list(problems)
     if link_spec is not None:
@@ -55,15 +67,21 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
         role = "spec"
         source = link_spec.mass_source(link, options, trust_mass=trust_mass)
     else:
-        role, refs = select_geometry(link, options.geometry)
-        parts = _usable_parts(link, refs, meshes, urdf_dir, found)
-        if refs and not parts and options.geometry == "auto" and role == "collision" \
-                and link.visuals:
-            # every collision element was dropped: the visuals describe the same body
-            role = "visual"
-            parts = _usable_parts(link, link.visuals, meshes, urdf_dir, found)
-        if not parts:
+        choice = _choose(link, options, meshes, urdf_dir, trust_mass, plausible_only)
+        if choice is None and plausible_only:
+            return LinkResult(link.name, Status.LEFT, "none", None, link.inertial, link.notes,
+                              tuple(found), "no geometry of a plausible implied density "
+                              "to derive from")
+        if choice is None:
+            # nothing usable: report every element dropped on the way
+            role, refs = select_geometry(link, options.geometry)
+            usable_parts(link, refs, meshes, urdf_dir, found)
+            if options.geometry == "auto" and role == "collision":
+                usable_parts(link, weighable(link.visuals), meshes, urdf_dir, found)
             return _not_computed(link, found)
+        candidate, chosen = choice
+        role, parts = candidate.role, list(candidate.parts)
+        found.extend(candidate.dropped)
         source = link_mass_source(link, options, trust_mass=trust_mass)
     try:
         try:
@@ -77,24 +95,40 @@ def compute_link(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: 
                           tuple(found), exc.cause)
     warnings = link.notes + _warnings(parts, result)
     return LinkResult(link.name, Status.RECOMPUTED, role, result, link.inertial, warnings,
-                      tuple(found))
+                      tuple(found), choice=chosen)
 
 
-def _usable_parts(link: Link, refs: Sequence[GeometryRef], meshes: MeshSource,
-                  urdf_dir: Path, found: list[Problem]) -> list[Part]:
-    """The parts of every element of ``refs`` that makes them; each that does not is
-    dropped with a problem appended to ``found``."""
-    from urdfinertia.descriptions.model import Problem
-    from urdfinertia.link.parts import geometry_parts
+def _choose(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: Path,
+            trust_mass: bool, plausible_only: bool = False,
+            ) -> tuple[Candidate, GeometryChoice] | None:
+    """The geometry the link's inertial integrates (``--geometry auto``: per link, see
+    :mod:`urdfinertia.link.geometry_choice`; an SDFormat ``<inertial auto="true">`` is
+    Gazebo's, from the collisions); None when no candidate has a usable part."""
+    import numpy as np
 
-    parts: list[Part] = []
-    for ref in refs:
-        try:
-            parts.extend(geometry_parts(ref, meshes, urdf_dir))
-        except UrdfInertiaError as exc:
-            found.append(Problem(problem_code(exc), exc.cause, line=exc.line or ref.line,
-                                 link=link.name, element=ref.label, kind="dropped"))
-    return parts
+    from urdfinertia.descriptions.inertial import RawInertial
+    from urdfinertia.link.geometry_choice import candidate_sets, choose, evaluate
+
+    if options.geometry == "auto" and not link.auto_inertial:
+        sets = candidate_sets(link)
+    else:
+        role, refs = select_geometry(link, options.geometry)
+        sets = [(role, refs)] if refs else []
+    candidates = [c for role, refs in sets
+                  if (c := evaluate(link, role, refs, meshes, urdf_dir)) is not None]
+    if not candidates:
+        return None
+    mass = com = None
+    if link.inertial is not None:
+        raw = RawInertial.from_inertial(link.inertial)
+        if trust_mass and options.mass == "keep" and raw.mass_ok and raw.mass > 0:
+            mass = raw.mass
+            com = raw.com if raw.com_ok else None
+    best, chosen = choose(candidates, mass, com if com is None else np.asarray(com))
+    lo, hi = PLAUSIBLE_DENSITY
+    if plausible_only and chosen.density is not None and not lo <= chosen.density <= hi:
+        return None
+    return best, chosen
 
 
 def _not_computed(link: Link, found: list[Problem]) -> LinkResult:

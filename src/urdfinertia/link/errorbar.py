@@ -21,12 +21,15 @@ import math
 from dataclasses import dataclass
 
 #: Upper edges of the centroid-to-CoM offset bins, fractions of the box diagonal.
-OFFSET_EDGES = (0.01, 0.03, 0.06, 0.10)
-#: 80th percentile of the relative tensor error in each offset bin (one more than edges:
-#: the last is beyond 10 %), calibrated by ``scripts/bench_cad.py --calibrate`` on 399
-#: de-duplicated CAD links of 12 packages (docs: the error bar): not monotonic in the
-#: offset on these robots, so the offset sets the band only within the measured spread.
-OFFSET_P80 = (0.60, 0.45, 0.58, 0.49, 0.79)
+OFFSET_EDGES = (0.03, 0.08)
+#: 80th percentile of the relative tensor error by (kind of geometry, role, offset bin):
+#: kind as :data:`urdfinertia.link.geometry_choice.KINDS`, role "collision" or "visual"
+#: (None: every role), bin as :func:`offset_bin`; (None, None, bin) is every kind. Fitted
+#: by ``scripts/bench_cad.py --calibrate`` (docs: the error bar); a cell with too few
+#: links is left out and takes the coarser cell's band.
+BANDS: dict[tuple[str | None, str | None, int], float] = {
+    (None, None, 0): 0.60, (None, None, 1): 0.58, (None, None, 2): 0.79,
+}
 #: 80th percentile of the error when the CoM is derived too (only 6 such links measured;
 #: a wider set of 846 links gave p75 47 %, p90 76 %).
 MODEL_P80 = 0.81
@@ -39,33 +42,57 @@ class ErrorBar:
     """Expected relative error of a derived tensor against CAD (Frobenius, about the CoM).
 
     band : the error stays below this fraction for :data:`BAND_LEVEL` of links.
-    basis : "offset" (from the centroid-to-CoM offset) or "model" (CoM not known).
+    basis : "offset" (from the kind of geometry and the centroid-to-CoM offset) or
+        "model" (CoM not known).
     offset : centroid-to-CoM offset as a fraction of the box diagonal (None for "model").
+    kind : the kind of geometry the tensor came from ("primitive", "hull", "mesh"; None
+        when not known).
     """
 
     band: float
     basis: str
     offset: float | None = None
+    kind: str | None = None
 
     def __str__(self) -> str:
-        why = (f"centroid {100 * self.offset:.1f} % of the box diagonal from the kept CoM"
-               if self.offset is not None else "homogeneous model, CoM not known")
+        from urdfinertia.link.geometry_choice import KIND_WORDS
+
+        what = f"{KIND_WORDS[self.kind]}, " if self.kind is not None else ""
+        why = (f"{what}centroid {100 * self.offset:.1f} % of the box diagonal from the "
+               "kept CoM" if self.offset is not None else "homogeneous model, CoM not known")
         return f"tensor within ±{100 * self.band:.0f} % of CAD ({100 * BAND_LEVEL:.0f} %: {why})"
 
     def as_dict(self) -> dict[str, object]:
         return {"band": self.band, "level": BAND_LEVEL, "basis": self.basis,
-                "offset": self.offset}
+                "offset": self.offset, "kind": self.kind}
 
 
-def offset_band(offset: float) -> float:
-    """The calibrated band for a centroid-to-CoM offset (fraction of the box diagonal)."""
-    for edge, band in zip(OFFSET_EDGES, OFFSET_P80, strict=False):
+def offset_bin(offset: float) -> int:
+    """The index of the offset bin holding ``offset`` (fraction of the box diagonal)."""
+    for i, edge in enumerate(OFFSET_EDGES):
         if offset < edge:
-            return band
-    return OFFSET_P80[-1]
+            return i
+    return len(OFFSET_EDGES)
 
 
-def tensor_error_bar(centroid_offset: float | None, diagonal: float | None) -> ErrorBar:
+def band_key(kind: str | None, role: str | None) -> tuple[str | None, str | None]:
+    """(kind, role) as :data:`BANDS` keys them: MuJoCo's counted geoms are "collision"."""
+    return kind, None if role is None else ("visual" if role == "visual" else "collision")
+
+
+def lookup_band(bands: dict[tuple[str | None, str | None, int], float], kind: str | None,
+                role: str | None, offset: float) -> float:
+    """The band of the finest cell of ``bands`` holding (kind, role, offset bin)."""
+    kind, role = band_key(kind, role)
+    b = offset_bin(offset)
+    for key in ((kind, role, b), (kind, None, b), (None, None, b)):
+        if key in bands:
+            return bands[key]
+    return max(bands.values())
+
+
+def tensor_error_bar(centroid_offset: float | None, diagonal: float | None,
+                     kind: str | None = None, role: str | None = None) -> ErrorBar:
     """The error bar of a derived tensor.
 
     Parameters
@@ -75,9 +102,12 @@ def tensor_error_bar(centroid_offset: float | None, diagonal: float | None) -> E
         derived from the geometry too.
     diagonal : float or None
         The geometry's bounding-box diagonal, m.
+    kind, role : str or None
+        The kind of geometry integrated ("primitive", "hull", "mesh") and its role
+        ("collision", "visual", "geom"); None when not known.
     """
     if centroid_offset is None or diagonal is None or not (
             math.isfinite(diagonal) and diagonal > 0):
-        return ErrorBar(MODEL_P80, "model")
+        return ErrorBar(MODEL_P80, "model", kind=kind)
     rel = centroid_offset / diagonal
-    return ErrorBar(offset_band(rel), "offset", rel)
+    return ErrorBar(lookup_band(BANDS, kind, role, rel), "offset", rel, kind)

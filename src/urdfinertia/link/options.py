@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -32,7 +32,8 @@ PLAUSIBLE_DENSITY = (50.0, 25000.0)
 class FixOptions:
     """What ``urdf-inertia fix`` was asked to do.
 
-    geometry : "auto" (collision if the link has any, else visual), "collision" or "visual".
+    geometry : "auto" (per link, the geometry that best represents the body:
+        :mod:`urdfinertia.link.geometry_choice`), "collision" or "visual".
     mass : "keep" (keep a link's existing positive mass, geometry gives CoM and tensor)
         or "density" (mass = density x volume).
     density : kg/m^3 used when a link has no mass or with ``mass="density"``.
@@ -68,15 +69,30 @@ class FixOptions:
 
 
 def select_geometry(link: Link, mode: str) -> tuple[str, tuple[GeometryRef, ...]]:
-    """Which geometry elements make the link's parts (see :class:`FixOptions`).
+    """The elements that describe the link's body for the checks (see :class:`FixOptions`).
 
     ``auto`` on a link whose format says which elements count for inertia (MJCF) takes
-    those ("geom").
+    those ("geom"); when none count (every geom stated massless, or outside MuJoCo's
+    inertia groups) the link's other geoms still have the body's shape. Otherwise the
+    collisions, else the visuals. A derived inertial chooses among all of them per link
+    (:func:`urdfinertia.link.geometry_choice.choose`).
     """
-    if mode == "auto" and link.inertia_geometry is not None:
-        return ("geom", link.inertia_geometry) if link.inertia_geometry else ("none", ())
+    if mode == "auto" and link.inertia_geometry:
+        return "geom", link.inertia_geometry
     if mode == "collision" or (mode == "auto" and link.collisions):
-        return "collision", link.collisions
+        return "collision", weighable(link.collisions)
     if mode == "visual" or (mode == "auto" and link.visuals):
-        return "visual", link.visuals
+        return "visual", weighable(link.visuals)
     return "none", ()
+
+
+def weighable(refs: tuple[GeometryRef, ...]) -> tuple[GeometryRef, ...]:
+    """``refs`` with their stated materials, or none at all when some are stated massless.
+
+    A geom stated massless (MJCF ``density="0"`` or ``mass="0"``, a display-only geom)
+    still has the body's shape: used for an inertial, the kept mass is spread uniformly
+    over the whole set.
+    """
+    if any(r.mass == 0 or (r.mass is None and r.density == 0) for r in refs):
+        return tuple(replace(r, density=None, mass=None, relative=False) for r in refs)
+    return refs

@@ -102,6 +102,11 @@ class Decision:
     bounds: Bounds | None = None
     findings: tuple[Finding, ...] = ()
     unverified: tuple[str, ...] = ()
+    #: "leave" of a link that needed recomputing (a placeholder): left, never silently
+    unresolved: bool = False
+    #: "recompute" only from geometry whose implied density is plausible (the first
+    #: geometry judged is not the body; another may be), else left
+    plausible_only: bool = False
 
     def __post_init__(self) -> None:
         if self.action not in ACTIONS:
@@ -228,12 +233,18 @@ def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | N
     why = ", ".join(triggers) + note
     _, refs = select_geometry(link, options.geometry)
     invalid = bool(codes & (INVALID_CODES | {"missing-inertial"}))
+    if not_body is not None and not unread and triggers and options.geometry == "auto" \
+            and len([r for r in (link.collisions, link.visuals) if r]) > 1:
+        # the geometry judged is not the body; the link's other geometry may be
+        return Decision(name, Action.RECOMPUTE, f"{why}; {not_body}", keep_mass=True,
+                        keep_com=_inside(link, bounds), bounds=bounds, plausible_only=True)
     if not_body is not None or unread or not refs:
         cause = (not_body if not_body is not None else
                  "geometry could not be read" if refs else "no geometry to recompute from")
         if invalid:
             return Decision(name, Action.REPAIR, f"{why}; {cause}")
-        return Decision(name, Action.LEAVE, f"{why}; {cause}: left as it is")
+        return Decision(name, Action.LEAVE, f"{why}; {cause}: left as it is",
+                        unresolved=True)
     keep_mass = not (codes & MASS_DISTRUST)
     keep_com = keep_mass and not (codes & COM_DISTRUST) and _inside(link, bounds)
     return Decision(name, Action.RECOMPUTE, why, keep_mass=keep_mass, keep_com=keep_com,

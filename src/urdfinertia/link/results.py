@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from urdfinertia.link.assemble import Assembly
     from urdfinertia.link.errorbar import ErrorBar
     from urdfinertia.link.findings import Finding
+    from urdfinertia.link.geometry_choice import GeometryChoice
     from urdfinertia.link.save import SaveReport
 
 
@@ -96,6 +97,8 @@ class LinkResult:
     findings: tuple[Finding, ...] = ()
     #: what could not be verified, e.g. "mesh meshes/arm.stl: cannot resolve package 'x'"
     unverified: tuple[str, ...] = ()
+    #: which geometry a derived inertial integrates, and why (None: none derived)
+    choice: GeometryChoice | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "status", Status(self.status))

@@ -19,6 +19,8 @@ def link_notes(r: LinkResult, warnings: bool = True) -> list[str]:
         if r.kept and r.derived:
             notes.append(f"kept {', '.join(r.kept)}; derived {', '.join(r.derived)}")
         notes.append(str(r.assembly.mass_source))
+        if r.choice is not None:
+            notes.append(f"from {r.choice}")
         if r.error_bar is not None:
             notes.append(str(r.error_bar))
     return [*notes, *r.warnings] if warnings else notes
@@ -31,6 +33,7 @@ def decision_dict(r: LinkResult) -> dict[str, object]:
     return {"action": str(r.action) if r.action else None, "why": r.why,
             "decision": r.decision, "kept": list(r.kept), "derived": list(r.derived),
             "error_bar": r.error_bar.as_dict() if r.error_bar is not None else None,
+            "geometry_choice": r.choice.as_dict() if r.choice is not None else None,
             "findings": [finding_dict(f) for f in r.findings],
             "unverified": list(r.unverified)}
 

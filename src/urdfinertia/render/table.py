@@ -9,6 +9,7 @@ from rich.console import Console
 from rich.table import Table
 
 from urdfinertia.analysis.explain import Breakdown, Contribution, link_breakdown
+from urdfinertia.link.geometry_choice import KIND_WORDS
 from urdfinertia.link.results import LinkResult
 from urdfinertia.render.decisions import link_notes
 
@@ -110,7 +111,8 @@ def fix_table(results: Sequence[LinkResult], title: str, width: int | None = Non
         parts = r.assembly.parts
         methods = sorted({p.part.method for p in parts})
         if parts:
-            geo = f"{r.geometry}: {len(parts)} part{'s' if len(parts) != 1 else ''}"
+            kind = f" {KIND_WORDS[r.choice.kind]}" if r.choice is not None else ""
+            geo = f"{r.geometry}{kind}: {len(parts)} part{'s' if len(parts) != 1 else ''}"
             geo += f" ({', '.join(methods)})"
         else:  # --repair-only: the written values, corrected, no geometry involved
             geo = r.geometry
@@ -175,7 +177,8 @@ def breakdown_table(b: Breakdown) -> Table:
     t = b.total
     size = float(np.sqrt(np.trace(t.inertia) / t.mass) + np.linalg.norm(t.com))
     big = float(np.abs(t.inertia).max())
-    table = Table(title=f"link '{b.link}' ({b.geometry}; {b.mass_source})",
+    geometry = str(b.choice) if b.choice is not None else b.geometry
+    table = Table(title=f"link '{b.link}' ({geometry}; {b.mass_source})",
                   caption="tensors: ixx iyy izz / ixy ixz iyz, kg m^2, link axes, URDF signs\n"
                           f"principal moments λ1 λ2 λ3 = {_vec(b.moments)} kg m^2\n"
                           f"principal axes e1; e2; e3 = "

@@ -1,0 +1,52 @@
+"""The error bar of a derived tensor: read from the kind of geometry, its role and the
+centroid-to-CoM offset, the finest calibrated cell first."""
+
+from __future__ import annotations
+
+import pytest
+
+from urdfinertia.link.errorbar import (
+    BANDS,
+    MODEL_P80,
+    OFFSET_EDGES,
+    lookup_band,
+    offset_bin,
+    tensor_error_bar,
+)
+
+CELLS = {("mesh", "visual", 0): 0.2, ("mesh", None, 0): 0.3, (None, None, 0): 0.5,
+         (None, None, 1): 0.6, (None, None, 2): 0.9}
+
+
+def test_offset_bins_follow_the_edges():
+    assert offset_bin(0.0) == 0
+    assert offset_bin(OFFSET_EDGES[0]) == 1
+    assert offset_bin(10.0) == len(OFFSET_EDGES)
+
+
+@pytest.mark.parametrize(("kind", "role", "band"), [
+    ("mesh", "visual", 0.2),       # its own cell
+    ("mesh", "collision", 0.3),    # the kind's cell, every role
+    ("mesh", "geom", 0.3),         # MuJoCo's counted geoms are collision geometry
+    ("primitive", "visual", 0.5),  # every kind
+    (None, None, 0.5),
+])
+def test_the_finest_calibrated_cell_gives_the_band(kind, role, band):
+    assert lookup_band(CELLS, kind, role, 0.0) == band
+
+
+def test_every_offset_bin_has_a_band_for_every_kind():
+    for b in range(len(OFFSET_EDGES) + 1):
+        assert (None, None, b) in BANDS
+    for kind in ("primitive", "hull", "mesh", None):
+        for offset in (0.0, 0.05, 0.5):
+            assert 0 < lookup_band(BANDS, kind, "visual", offset) < 5
+
+
+def test_error_bar_says_its_kind_and_basis():
+    bar = tensor_error_bar(0.01, 1.0, "mesh", "visual")
+    assert bar.basis == "offset" and bar.kind == "mesh"
+    assert bar.band == lookup_band(BANDS, "mesh", "visual", 0.01)
+    assert "detailed mesh" in str(bar) and bar.as_dict()["kind"] == "mesh"
+    model = tensor_error_bar(None, 1.0, "hull", "collision")
+    assert model.basis == "model" and model.band == MODEL_P80
