@@ -72,6 +72,14 @@ def _apply(link: Link, decision: Decision, options: FixOptions, meshes: MeshSour
                           problems=problems, decision=decision.describe(), kept=written)
     if decision.action == "repair":
         return replace(_repair(link, decision, options), problems=problems)
+    if decision.action == "correct" and decision.slip is not None:
+        # the slip undone: only the values the edit changed are written
+        changed = decision.slip.changed
+        return LinkResult(link.name, Status.REPAIRED, "as written", Assembly(
+            decision.slip.after, (), MassSource("kept", decision.slip.after.mass)),
+            link.inertial, problems=problems, decision=decision.describe(),
+            kept=tuple(v for v in VALUES if v not in changed),
+            derived=tuple(v for v in VALUES if v in changed), slip=decision.slip)
     r = compute_link(link, options, meshes, urdf_dir, problems, trust_mass=decision.keep_mass)
     if r.status == Status.LEFT:
         return replace(r, decision=f"left as it was: {r.reason}", kept=written)

@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from urdfinertia.link.errorbar import ErrorBar
     from urdfinertia.link.findings import Finding
     from urdfinertia.link.save import SaveReport
+    from urdfinertia.link.slips import SlipProposal
 
 
 class Status(StrEnum):
@@ -47,6 +48,8 @@ class Action(StrEnum):
     KEEP = "keep"
     REPAIR = "repair"
     LEAVE = "leave"
+    #: undo a slip: one edit of the written values (:mod:`urdfinertia.link.slips`)
+    CORRECT = "correct"
 
 
 #: Statuses whose inertial the output carries changed.
@@ -96,6 +99,8 @@ class LinkResult:
     findings: tuple[Finding, ...] = ()
     #: what could not be verified, e.g. "mesh meshes/arm.stl: cannot resolve package 'x'"
     unverified: tuple[str, ...] = ()
+    #: the slip undone (action "correct") or proposed (:mod:`urdfinertia.link.slips`)
+    slip: SlipProposal | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "status", Status(self.status))
@@ -127,7 +132,7 @@ class LinkResult:
     @property
     def planned(self) -> str:
         """The decision as a plan, as ``check`` says it: "would be kept: plausible"."""
-        if self.decision.startswith(("recomputed", "kept", "repaired", "left")):
+        if self.decision.startswith(("recomputed", "kept", "repaired", "left", "corrected")):
             return "would be " + self.decision
         return self.decision
 
