@@ -10,6 +10,7 @@ plausible within the geometry's error bar and is clearly better than every other
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -80,8 +81,12 @@ class SlipProposal:
         values = self.values()
         head = f"{best.edit.words}: {best.edit.name}" + (f" ({values})" if values else "")
         runner = self.proposal.runner_up
-        tail = (f"; next best {runner.edit.name} scores {runner.score - best.score:.1f} "
-                "more" if runner is not None else "; no other edit fits")
+        if runner is None:
+            tail = "; no other edit"
+        elif runner.feasible:
+            tail = f"; the next best, {runner.edit.name}, scores {self.proposal.margin:.1f} more"
+        else:
+            tail = f"; no other edit fits (the next best, {runner.edit.name}: {runner.why_not})"
         return (f"{head} makes the inertial valid and plausible, its tensor within "
                 f"{100 * best.tensor_error:.0f} % of the geometry's{tail}")
 
@@ -89,10 +94,12 @@ class SlipProposal:
         best, runner = self.proposal.best, self.proposal.runner_up
         return {"edit": best.edit.name, "slip": best.edit.slip, "words": best.edit.words,
                 "changed": sorted(best.edit.changed), "score": best.score,
-                "tensor_error": best.tensor_error, "margin": self.proposal.margin,
+                "tensor_error": best.tensor_error,
+                "margin": self.proposal.margin if math.isfinite(self.proposal.margin) else None,
                 "runner_up": None if runner is None else {
                     "edit": runner.edit.name, "slip": runner.edit.slip,
-                    "score": runner.score, "tensor_error": runner.tensor_error},
+                    "score": runner.score, "tensor_error": runner.tensor_error,
+                    "feasible": runner.feasible, "why_not": runner.why_not or None},
                 "text": self.sentence()}
 
 
