@@ -99,6 +99,12 @@ def plant(slip: str, i: Inertial, rng: np.random.Generator) -> tuple[Inertial, s
         e = e.copy()
         e[[1, 2, 4]] *= -1
         return _with(i, entries=e), "products negated"
+    if slip == "product-sign":
+        nonzero = [k for k in (1, 2, 4) if e[k] != 0] or [1]
+        which = int(rng.choice(nonzero))
+        e = e.copy()
+        e[which] *= -1
+        return _with(i, entries=e), f"entry {which} negated"
     if slip == "order":
         if rng.random() < 0.5:  # MuJoCo's fullinertia order read as URDF's
             return _with(i, entries=np.array([e[0], e[3], e[5], e[1], e[2], e[4]])), \

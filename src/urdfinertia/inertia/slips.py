@@ -30,7 +30,8 @@ definite, triangle inequality), plausible against the geometry as ``check`` judg
 (:class:`Limits`), and its tensor lies within the geometry's error bar (relative Frobenius
 difference at most ``Limits.band``). :func:`propose` gives the lowest-scoring feasible edit
 when it is not "no edit" and the next feasible one (the runner-up, "no edit" included)
-scores at least :data:`MARGIN` more.
+scores at least :data:`MARGIN` more. A placeholder-shaped tensor (equal diagonal, no
+products) gets no proposal: it was typed, not exported with a slip.
 """
 
 from __future__ import annotations
@@ -63,7 +64,7 @@ SIGMA_COM = 0.13
 MARGIN = 12.0
 #: Prior cost of an edit by class: how unlikely the slip is before looking at the numbers.
 PRIOR_COST = {"none": 0.0, "mass-unit": 2.0, "tensor-unit": 2.0, "inertial-unit": 3.0,
-              "com-unit": 2.0, "products-sign": 2.0, "order": 3.0, "parallel-axis": 2.0,
+              "com-unit": 2.0, "products-sign": 2.0, "product-sign": 4.0, "order": 3.0, "parallel-axis": 2.0,
               "rpy": 3.0, "entry-power": 4.0}
 #: Slip classes, in the order the docs list them.
 SLIP_CLASSES = tuple(k for k in PRIOR_COST if k != "none")
@@ -250,7 +251,7 @@ def candidate_edits(w: Written) -> list[Edit]:
     for i, _, _ in _PRODUCTS:
         e = w.entries.copy()
         e[i] *= -1
-        add("products-sign", f"{ENTRIES[i]} negated", f"{ENTRIES[i]} with the opposite sign",
+        add("product-sign", f"{ENTRIES[i]} negated", f"{ENTRIES[i]} with the opposite sign",
             "tensor", entries=e)
     e = w.entries
     # read as URDF's ixx ixy ixz iyy iyz izz, written in MuJoCo's ixx iyy izz ixy ixz iyz
@@ -279,13 +280,16 @@ def candidate_edits(w: Written) -> list[Edit]:
 
 def _distinct(edits: list[Edit]) -> list[Edit]:
     """Drop an edit whose values equal an earlier one's (a zero product negated is no edit)."""
-    kept: list[tuple[Edit, np.ndarray]] = []
-    for edit in edits:
-        key = np.concatenate(([edit.written.mass], edit.written.xyz,
-                              _entries(edit.tensor())))
-        if not any(np.allclose(key, k, rtol=SAME_RTOL, atol=0.0) for _, k in kept):
-            kept.append((edit, key))
-    return [e for e, _ in kept]
+    keys = np.array([np.concatenate(([e.written.mass], e.written.xyz, _entries(e.tensor())))
+                     for e in edits])
+    kept: list[int] = []
+    for i, key in enumerate(keys):
+        if kept:
+            same = np.all(np.abs(keys[kept] - key) <= SAME_RTOL * np.abs(key), axis=1)
+            if np.any(same):
+                continue
+        kept.append(i)
+    return [edits[i] for i in kept]
 
 
 def score_edit(edit: Edit, solid: Solid, limits: Limits) -> Scored:
@@ -337,6 +341,14 @@ def _infeasible(w: Written, tensor: np.ndarray, geo: np.ndarray, err: float, sol
     return ""
 
 
+def placeholder_shaped(w: Written) -> bool:
+    """Equal diagonal entries and no products: a placeholder someone typed (0.001 three
+    times, 1e-8 on a 0.1 g camera), not a CAD value with a slip in it; no edit of it is
+    what the author meant."""
+    e = w.entries
+    return bool(e[0] == e[3] == e[5] and not np.any(e[[1, 2, 4]]))
+
+
 def rank_edits(w: Written, solid: Solid, limits: Limits | None = None) -> list[Scored]:
     """Every candidate edit (:func:`candidate_edits`) scored, best (lowest) first."""
     limits = limits or Limits()
@@ -346,6 +358,8 @@ def rank_edits(w: Written, solid: Solid, limits: Limits | None = None) -> list[S
 
 def propose(w: Written, solid: Solid, limits: Limits | None = None) -> Proposal | None:
     """The edit that undoes the slip, when one is clearly it (module doc), else None."""
+    if placeholder_shaped(w):
+        return None
     ranked = rank_edits(w, solid, limits)
     feasible = [s for s in ranked if s.feasible]
     if not feasible or feasible[0].edit.slip == "none":
