@@ -60,8 +60,8 @@ SIGMA_DENSITY = 1.0
 #: Spread of the CoM's distance from the solid's centroid, in box diagonals (rms 0.13).
 SIGMA_COM = 0.13
 #: How much more the runner-up must score for the best edit to be proposed (chi-square
-#: units: a likelihood ratio of exp(MARGIN / 2), about 400).
-MARGIN = 12.0
+#: units: a likelihood ratio of exp(MARGIN / 2), about 90).
+MARGIN = 9.0
 #: Prior cost of an edit by class: how unlikely the slip is before looking at the numbers.
 PRIOR_COST = {"none": 0.0, "mass-unit": 2.0, "tensor-unit": 2.0, "inertial-unit": 3.0,
               "com-unit": 2.0, "products-sign": 2.0, "product-sign": 4.0, "order": 3.0, "parallel-axis": 2.0,
