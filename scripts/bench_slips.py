@@ -87,8 +87,8 @@ def plant(slip: str, i: Inertial, rng: np.random.Generator) -> tuple[Inertial, s
     if slip == "mass-unit":
         return _with(i, mass=decimal_shift(i.mass, 3 * sign)[0]), f"mass x1e{3 * sign:+d}"
     if slip == "inertial-unit":
-        return (_with(i, mass=decimal_shift(i.mass, 3 * sign)[0], entries=decimal_shift(e, 3 * sign)),
-                f"mass and tensor x1e{3 * sign:+d}")
+        return (_with(i, mass=decimal_shift(i.mass, 3 * sign)[0],
+                      entries=decimal_shift(e, 3 * sign)), f"mass and tensor x1e{3 * sign:+d}")
     if slip == "tensor-unit":
         k = int(rng.choice([3, 6, 9])) * sign
         return _with(i, entries=decimal_shift(e, k)), f"tensor x1e{k:+d}"

@@ -64,8 +64,8 @@ SIGMA_COM = 0.13
 MARGIN = 9.0
 #: Prior cost of an edit by class: how unlikely the slip is before looking at the numbers.
 PRIOR_COST = {"none": 0.0, "mass-unit": 2.0, "tensor-unit": 2.0, "inertial-unit": 3.0,
-              "com-unit": 2.0, "products-sign": 2.0, "product-sign": 4.0, "order": 3.0, "parallel-axis": 2.0,
-              "rpy": 3.0, "entry-power": 4.0}
+              "com-unit": 2.0, "products-sign": 2.0, "product-sign": 4.0, "order": 3.0,
+              "parallel-axis": 2.0, "rpy": 3.0, "entry-power": 4.0}
 #: Slip classes, in the order the docs list them.
 SLIP_CLASSES = tuple(k for k in PRIOR_COST if k != "none")
 ENTRIES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
@@ -102,7 +102,8 @@ class Written:
     def tensor(self) -> np.ndarray:
         """(3, 3) tensor about the CoM along the link frame's axes."""
         rot = rpy_matrix(self.rpy)
-        return rot @ _matrix(self.entries) @ rot.T
+        turned: np.ndarray = rot @ _matrix(self.entries) @ rot.T
+        return turned
 
 
 @dataclass(frozen=True, eq=False)
@@ -243,7 +244,8 @@ def candidate_edits(w: Written) -> list[Edit]:
     units = {3: "g m^2 or kg mm^2 x 1e-3", 6: "kg mm^2", 9: "g mm^2"}
     for k in (3, 6, 9, -3, -6, -9):
         words = f"tensor in {units[k]}" if k > 0 else f"tensor {_times(k)}"
-        add("tensor-unit", f"tensor x1e{-k:+d}", words, "tensor", entries=decimal_shift(w.entries, -k))
+        add("tensor-unit", f"tensor x1e{-k:+d}", words, "tensor",
+            entries=decimal_shift(w.entries, -k))
     sign = w.entries.copy()
     sign[[1, 2, 4]] *= -1
     add("products-sign", "products negated", "products of inertia with CAD's sign "
@@ -301,7 +303,7 @@ def score_edit(edit: Edit, solid: Solid, limits: Limits) -> Scored:
             and np.all(np.isfinite(tensor))):
         return Scored(edit, math.inf, False, math.inf, "not finite or mass not positive")
     geo = w.mass * np.asarray(solid.inertia)
-    err = float(np.linalg.norm(tensor - geo) / max(np.linalg.norm(geo), 1e-300))
+    err = float(np.linalg.norm(tensor - geo)) / max(float(np.linalg.norm(geo)), 1e-300)
     # a moment below a thousandth of the trace is compared as that thousandth: a flat
     # plate's smallest moment says nothing, and an edit is not scored on round-off
     floor = 1e-3 * float(np.trace(geo))
