@@ -63,7 +63,9 @@ ROBOTS = [
 #: link's inertial (what the reader read past, masses lumped by fixed joints).
 NOT_ACTED_ON = frozenset({"lumped-mass", "massless-frame", "mesh-unresolved",
                           "geometry-unreadable", "xml-read-leniently", "vector-unparseable",
-                          "unsupported-geometry", "zero-size-primitive"})
+                          "unsupported-geometry", "zero-size-primitive",
+                          # across links: which of two links is right is the author's call
+                          "inertial-copied", "twins-disagree"})
 
 
 def _path(base, rel: str) -> Path:

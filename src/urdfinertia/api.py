@@ -95,6 +95,8 @@ def fix(path: str | Path, **options: Any) -> FixResult:
     """Fix the inertials of the description at ``path``; nothing is written.
 
     ``result.output`` holds the patched document, ``result.links`` the verdicts.
+    ``slips=False`` derives a flagged inertial from its geometry even where one edit of the
+    written values undoes a slip (``fix --no-slips``).
     """
     from urdfinertia.link.fix import fix_file
 

@@ -120,6 +120,10 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
         links = link_verdicts(robot, options, meshes)
         for r in links:
             findings.extend(r.findings)
+        if options.slips:  # what the author meant, across links: copies and twins
+            from urdfinertia.analysis.twins import twin_findings
+
+            findings.extend(twin_findings(robot, meshes, options, urdf_dir))
     else:
         for link in robot.links:
             findings.extend(value_findings(link, kin, robot))

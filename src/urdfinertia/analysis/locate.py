@@ -14,12 +14,14 @@ from __future__ import annotations
 
 import bisect
 import re
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from urdfinertia.analysis.check import Finding
 from urdfinertia.descriptions.model import Robot
 from urdfinertia.link.results import LinkResult
+from urdfinertia.link.slips import TextEdit
 
 #: Element names that carry a link's name in the registered formats (URDF/SDF ``link``,
 #: MJCF ``body``).
@@ -47,6 +49,8 @@ class CheckedFile:
     unverified: frozenset[str] = frozenset()
     #: every link's verdict (what ``fix`` would do), when the geometry was read
     verdicts: tuple[LinkResult, ...] = ()
+    #: the text edit that undoes a link's slip, by link (SARIF ``fixes``)
+    fixes: Mapping[str, TextEdit] = field(default_factory=dict)
 
     def decision_of(self, link: str | None) -> str | None:
         """What ``fix`` would do with ``link``, in the words every command uses."""

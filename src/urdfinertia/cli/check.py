@@ -36,6 +36,7 @@ from urdfinertia.cli.options import (
 )
 from urdfinertia.descriptions.formats import is_description, read_bytes, robot_from_bytes
 from urdfinertia.link.options import FixOptions
+from urdfinertia.link.slips import slip_fixes
 from urdfinertia.render.annotations import annotation_lines
 from urdfinertia.render.sarif import sarif_document
 
@@ -74,6 +75,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "(package.xml, launch files): for hooks handed every *.xml")
     add_engine_arguments(p)
     add_geometry_source_arguments(p)
+    p.add_argument("--no-slips", action="store_true",
+                   help="do not search flagged links for a one-edit slip (plan as fix "
+                        "--no-slips)")
     p.add_argument("-q", "--quiet", action="store_true", help="print only the summary line")
 
 
@@ -95,7 +99,7 @@ def unverified_unknown(cf: CheckedFile) -> bool:
 
 def run(args: argparse.Namespace) -> int:
     options = FixOptions(geometry=args.geometry, package_dirs=dict(args.package_dir),
-                         max_faces=args.max_faces)
+                         max_faces=args.max_faces, slips=not args.no_slips)
     meshes = None if args.no_geometry else mesh_library(options.package_dirs, options.max_faces)
     baseline = (Baseline.load(args.baseline) if args.baseline is not None
                 else Baseline.empty(Path.cwd()))
@@ -115,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
         checked.append(CheckedFile(path, robot, findings, locate_all(robot, data, findings),
                                    baseline.mark(findings, path),
                                    frozenset(r.name for r in result.unverified),
-                                   result.links))
+                                   result.links, slip_fixes(robot, data, result.links)))
         if result.links:  # what fix would do: the verdicts fix carries out
             plans[path] = result.links
     code = max((exit_code(cf.new, args.strict, unverified_unknown(cf)) for cf in checked),

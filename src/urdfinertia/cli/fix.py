@@ -59,6 +59,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="keep relative mesh references as written even when the output "
                         "lands in another folder (default: rewrite them to resolve from "
                         "the output's folder)")
+    p.add_argument("--no-slips", action="store_true",
+                   help="derive a flagged inertial from its geometry even where one edit of "
+                        "the written values (a slip: izz x1e-3, mass in grams) clearly "
+                        "undoes what is wrong (default: undo the slip)")
     p.add_argument("--keep-auto", action="store_true",
                    help="SDFormat: leave <inertial auto=\"true\"> for the simulator to compute "
                         "(default: write explicit values and drop the auto attribute)")

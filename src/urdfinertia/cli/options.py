@@ -121,6 +121,7 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
         keep_auto=getattr(args, "keep_auto", False),
         recompute=recompute_from_args(args)[0],
         links=recompute_from_args(args)[1],
+        slips=not getattr(args, "no_slips", False),
     )
 
 

@@ -75,6 +75,14 @@ def _apply(link: Link, decision: Decision, options: FixOptions, meshes: MeshSour
                           reason=decision.why if decision.unresolved else None)
     if decision.action == "repair":
         return replace(_repair(link, decision, options), problems=problems)
+    if decision.action == "correct" and decision.slip is not None:
+        # the slip undone: only the values the edit changed are written
+        changed = decision.slip.changed
+        return LinkResult(link.name, Status.REPAIRED, "as written", Assembly(
+            decision.slip.after, (), MassSource("kept", decision.slip.after.mass)),
+            link.inertial, problems=problems, decision=decision.describe(),
+            kept=tuple(v for v in VALUES if v not in changed),
+            derived=tuple(v for v in VALUES if v in changed), slip=decision.slip)
     r = compute_link(link, options, meshes, urdf_dir, problems, trust_mass=decision.keep_mass,
                      plausible_only=decision.plausible_only)
     if r.status == Status.LEFT:

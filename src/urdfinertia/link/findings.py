@@ -34,7 +34,7 @@ def _rules(*rows: tuple[str, str, str, str, str]) -> dict[str, Rule]:
 #: or renumbered (baselines and code-scanning alerts are keyed on it); add new kinds at the
 #: end of their block. UI1xx: the written values; UI2xx: against the geometry; UI3xx:
 #: the robot as simulators merge it; UI4xx: loading and stepping in the engines; UI5xx:
-#: what the reader read past that other loaders refuse.
+#: what the reader read past that other loaders refuse; UI6xx: what the author meant.
 RULES: dict[str, Rule] = _rules(
     ("UI101", "missing-inertial", "link", "error", "a moving link has no <inertial>"),
     ("UI102", "mass-not-finite", "inertial", "error", "mass is NaN or infinite"),
@@ -99,6 +99,13 @@ RULES: dict[str, Rule] = _rules(
      "XML that strict parsers refuse (declaration, undeclared prefix, trailing content)"),
     ("UI507", "missing-layer", "robot", "error",
      "a USD sublayer, reference or payload names a layer that cannot be opened"),
+    # UI6xx: what the author meant: slips, copies and twins
+    ("UI601", "slip-proposed", "inertial", "warning",
+     "one edit of the written values (a slip) makes the inertial valid and plausible"),
+    ("UI602", "inertial-copied", "inertial", "warning",
+     "the inertial equals another link's while their geometries differ (copy-pasted)"),
+    ("UI603", "twins-disagree", "inertial", "warning",
+     "mirror twins whose inertials disagree beyond the mirror map"),
 )
 
 

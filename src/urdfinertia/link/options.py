@@ -54,6 +54,9 @@ class FixOptions:
     keep_auto: bool = False
     recompute: str = "needed"
     links: tuple[str, ...] = ()
+    #: undo a clear one-edit slip of a flagged inertial (:mod:`urdfinertia.link.slips`)
+    #: instead of deriving it from the geometry (``--no-slips``: False)
+    slips: bool = True
 
     def __post_init__(self) -> None:
         if self.geometry not in GEOMETRY_MODES:

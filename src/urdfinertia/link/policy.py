@@ -44,6 +44,7 @@ from urdfinertia.link.plausibility import (
     value_findings,
 )
 from urdfinertia.link.results import Action
+from urdfinertia.link.slips import SLIP_TRIGGERS, SlipProposal, find_slip
 
 #: Findings that make ``fix`` recompute a link by default.
 RECOMPUTE_CODES = (
@@ -92,6 +93,7 @@ class Decision:
     bounds : the geometry's box in the link frame, when it was read.
     findings : what ``check`` reports about the link as written (the decision's grounds).
     unverified : what of the link's geometry could not be read.
+    slip : for "correct", the one edit of the written values that undoes a slip.
     """
 
     link: str
@@ -107,6 +109,7 @@ class Decision:
     #: "recompute" only from geometry whose implied density is plausible (the first
     #: geometry judged is not the body; another may be), else left
     plausible_only: bool = False
+    slip: SlipProposal | None = None
 
     def __post_init__(self) -> None:
         if self.action not in ACTIONS:
@@ -117,7 +120,8 @@ class Decision:
         """"kept: plausible" after a fix, "would be kept: plausible" before one."""
         if self.action == "leave":
             return self.why  # already says what happens ("... left as it is")
-        past = {"recompute": "recomputed", "keep": "kept", "repair": "repaired"}[self.action]
+        past = {"recompute": "recomputed", "keep": "kept", "repair": "repaired",
+                "correct": "corrected"}[self.action]
         return f"{past if done else 'would be ' + past}: {self.why}"
 
 
@@ -157,7 +161,28 @@ def decide_link(link: Link, robot: Robot, kin: Kinematics, options: FixOptions,
     unverified = tuple(f.message for f in mine if f.code == "mesh-unresolved") or tuple(
         f.message for f in mine if f.code == "geometry-unreadable")
     decision = _decide(link, kin, findings, bounds, density, options, outgrows)
+    decision, findings = _slip(link, decision, findings, options, meshes, cache, urdf_dir)
     return replace(decision, findings=tuple(findings), unverified=unverified)
+
+
+def _slip(link: Link, decision: Decision, findings: list[Finding], options: FixOptions,
+          meshes: MeshLibrary, cache: BoundsCache, urdf_dir: Path,
+          ) -> tuple[Decision, list[Finding]]:
+    """A clear one-edit slip (:mod:`urdfinertia.link.slips`) of a flagged link under the
+    default policy: the proposal joins the findings and is applied instead of deriving the
+    inertial from the geometry, which keeps every value the slip did not touch."""
+    if options.recompute != "needed" or _named_in_spec(options, link.name) \
+            or decision.action == Action.KEEP and decision.why == "plausible":
+        return decision, findings
+    codes = {f.code for f in findings if f.link == link.name}
+    found = find_slip(link, codes, meshes, cache, options, urdf_dir)
+    if found is None:
+        return decision, findings
+    line = link.inertial.line if link.inertial is not None else None
+    note = Finding(link.name, "warning", "slip-proposed", found.sentence(), line)
+    triggers = ", ".join(sorted(codes & SLIP_TRIGGERS))
+    return (Decision(link.name, Action.CORRECT, f"{found.edit} (slip: {triggers})",
+                     bounds=decision.bounds, slip=found), [*findings, note])
 
 
 def _decide(link: Link, kin: Kinematics, findings: list[Finding], bounds: Bounds | None,

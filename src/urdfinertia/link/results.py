@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from urdfinertia.link.findings import Finding
     from urdfinertia.link.geometry_choice import GeometryChoice
     from urdfinertia.link.save import SaveReport
+    from urdfinertia.link.slips import SlipProposal
 
 
 class Status(StrEnum):
@@ -48,6 +49,8 @@ class Action(StrEnum):
     KEEP = "keep"
     REPAIR = "repair"
     LEAVE = "leave"
+    #: undo a slip: one edit of the written values (:mod:`urdfinertia.link.slips`)
+    CORRECT = "correct"
 
 
 #: Statuses whose inertial the output carries changed.
@@ -99,6 +102,8 @@ class LinkResult:
     unverified: tuple[str, ...] = ()
     #: which geometry a derived inertial integrates, and why (None: none derived)
     choice: GeometryChoice | None = None
+    #: the slip undone (action "correct") or proposed (:mod:`urdfinertia.link.slips`)
+    slip: SlipProposal | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "status", Status(self.status))
@@ -130,7 +135,7 @@ class LinkResult:
     @property
     def planned(self) -> str:
         """The decision as a plan, as ``check`` says it: "would be kept: plausible"."""
-        if self.decision.startswith(("recomputed", "kept", "repaired", "left")):
+        if self.decision.startswith(("recomputed", "kept", "repaired", "left", "corrected")):
             return "would be " + self.decision
         return self.decision
 

@@ -35,7 +35,8 @@ def decision_dict(r: LinkResult) -> dict[str, object]:
             "error_bar": r.error_bar.as_dict() if r.error_bar is not None else None,
             "geometry_choice": r.choice.as_dict() if r.choice is not None else None,
             "findings": [finding_dict(f) for f in r.findings],
-            "unverified": list(r.unverified)}
+            "unverified": list(r.unverified),
+            "slip": r.slip.as_dict() if r.slip is not None else None}
 
 
 def print_mass_summary(result: FixResult, console: Console, quiet: bool = False) -> None:
@@ -74,7 +75,8 @@ def plan_dict(verdicts: Sequence[LinkResult]) -> list[dict[str, object]]:
     """JSON rows of check's plan: every link's action, resulting status and reason."""
     return [{"link": r.name, "action": str(r.action) if r.action else None,
              "status": str(r.status), "why": r.why, "text": r.planned,
-             "unverified": list(r.unverified)} for r in verdicts]
+             "unverified": list(r.unverified),
+             "slip": r.slip.as_dict() if r.slip is not None else None} for r in verdicts]
 
 
 def unverified_summary(verdicts: Sequence[LinkResult]) -> str | None:

@@ -16,6 +16,7 @@ from pathlib import Path
 from urdfinertia import __version__
 from urdfinertia.analysis.check import RULES, Rule
 from urdfinertia.analysis.locate import CheckedFile
+from urdfinertia.link.slips import TextEdit
 
 SARIF_SCHEMA = ("https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/"
                 "sarif-schema-2.1.0.json")
@@ -78,6 +79,10 @@ def sarif_document(files: list[CheckedFile], *, with_baseline: bool = False,
                 "partialFingerprints": {"urdfInertiaKey/v1": _fingerprint(
                     rule.id, uri, finding.link)},
             }
+            edit = cf.fixes.get(finding.link or "") if finding.code == "slip-proposed" \
+                else None
+            if edit is not None:  # the slip undone, as fix writes it
+                result["fixes"] = [_fix_json(uri, edit, cf.decision_of(finding.link))]
             decision = cf.decision_of(finding.link)
             if decision is not None:  # what fix would do, as every command says it
                 result["properties"] = {"fix": decision}
@@ -94,6 +99,19 @@ def sarif_document(files: list[CheckedFile], *, with_baseline: bool = False,
             "results": results,
         }],
     }
+
+
+def _fix_json(uri: str, edit: TextEdit, decision: str | None) -> dict:
+    """A SARIF ``fix``: one artifactChange replacing the slipped text with fix's."""
+    return {"description": {"text": decision or "undo the slip"},
+            "artifactChanges": [{
+                "artifactLocation": {"uri": uri},
+                "replacements": [{
+                    "deletedRegion": {"startLine": edit.start_line,
+                                      "startColumn": edit.start_column,
+                                      "endLine": edit.end_line,
+                                      "endColumn": edit.end_column},
+                    "insertedContent": {"text": edit.text}}]}]}
 
 
 def _fingerprint(rule_id: str, uri: str, link: str | None) -> str:

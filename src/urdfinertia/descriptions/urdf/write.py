@@ -186,13 +186,31 @@ def kept_value_edits(data: bytes, span: tuple[int, int], entry: NewInertial,
     if "tensor" in entry.derived:
         if b"inertia" not in tags:
             return None
-        edits += attribute_edits(data, tags[b"inertia"], {
-            "ixx": f(i[0, 0]), "ixy": f(i[0, 1]), "ixz": f(i[0, 2]), "iyy": f(i[1, 1]),
-            "iyz": f(i[1, 2]), "izz": f(i[2, 2])})
         rpy = attribute_spans(data, origin).get("rpy") if origin is not None else None
-        if origin is not None and rpy is not None and not _zero(data[rpy[1]:rpy[2]]):
+        rotated = origin is not None and rpy is not None and not _zero(data[rpy[1]:rpy[2]])
+        values = {"ixx": i[0, 0], "ixy": i[0, 1], "ixz": i[0, 2], "iyy": i[1, 1],
+                  "iyz": i[1, 2], "izz": i[2, 2]}
+        if not rotated:  # an entry whose number is unchanged keeps its text
+            values = _changed(data, tags[b"inertia"], values)
+        edits += attribute_edits(data, tags[b"inertia"], {k: f(v) for k, v in values.items()})
+        if rotated:
+            assert origin is not None
             edits += attribute_edits(data, origin, {"rpy": "0 0 0"})
     return edits
+
+
+def _changed(data: bytes, tag: re.Match[bytes], values: dict[str, float]) -> dict[str, float]:
+    """``values`` without the attributes of ``tag`` that already hold the same number."""
+    spans = attribute_spans(data, tag)
+    out = {}
+    for name, value in values.items():
+        try:
+            same = name in spans and float(data[spans[name][1]:spans[name][2]]) == value
+        except ValueError:
+            same = False
+        if not same:
+            out[name] = value
+    return out
 
 
 def _zero(text: bytes) -> bool:

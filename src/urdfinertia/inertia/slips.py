@@ -1,0 +1,382 @@
+"""One-edit repairs of a written inertial: the slip an author made, searched and ranked.
+
+Pure numpy. A wrong CAD inertial is usually wrong by one slip, not wholesale: a power of ten
+on one entry, grams for kilograms, kg mm^2 for kg m^2, products of inertia with CAD's sign
+(``+integral(xy dm)`` where URDF wants ``-integral(xy dm)``), the entries in another order,
+the tensor about the link origin instead of the CoM, the CoM in millimetres, the origin's
+``rpy`` applied twice or not at all. :func:`candidate_edits` lists every such edit of the
+written values; :func:`rank_edits` scores each against the homogeneous solid of the link's
+geometry (:class:`Solid`) and :func:`propose` returns the best edit when it is clearly the
+one.
+
+The score
+---------
+The score of an edit is a negative log-likelihood (chi-square units: a difference of ``d``
+is a likelihood ratio of ``exp(d / 2)``) of the edited inertial given the geometry, plus
+the edit's prior cost:
+
+- each diagonal entry against the solid's at the edited mass: ``(ln(I_ii / G_ii) /
+  SIGMA_MOMENT)^2``; real links are hollow and uneven, so CAD's moments scatter around the
+  solid's by a factor (:data:`SIGMA_MOMENT`, measured on real robots), not a fraction;
+- each product, normalised ``I_ij / sqrt(I_ii I_jj)`` (in -1..1), against the solid's:
+  ``(difference / SIGMA_PRODUCT)^2``;
+- the implied density against a typical link's: ``(ln(rho / RHO_TYPICAL) / SIGMA_DENSITY)^2``;
+- the CoM's distance from the solid's centroid in box diagonals: ``(d / SIGMA_COM)^2``;
+- the prior cost of the edit (:data:`PRIOR_COST`): no edit costs nothing, one unit slip of
+  the whole inertial a little, a power of ten on one of six entries more.
+
+An edit is *feasible* when its inertial is valid (positive mass, symmetric, positive
+definite, triangle inequality), plausible against the geometry as ``check`` judges it
+(:class:`Limits`), and its tensor lies within the geometry's error bar (relative Frobenius
+difference at most ``Limits.band``). :func:`propose` gives the lowest-scoring feasible edit
+when it is not "no edit" and the next feasible one (the runner-up, "no edit" included)
+scores at least :data:`MARGIN` more. A placeholder-shaped tensor (equal diagonal, no
+products) gets no proposal: it was typed, not exported with a slip.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from decimal import Decimal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from urdfinertia.inertia.rotation import rpy_matrix
+from urdfinertia.inertia.validity import diagnose_tensor
+
+# The spreads below are measured on 123 de-duplicated CAD links that ``check`` finds
+# plausible, from 10 packages (``scripts/bench_slips.py``'s corpus, 6 files a package):
+#: Spread of ln(CAD moment / homogeneous solid's moment): standard deviation 0.68 (the
+#: e-fold of the factor by which a hollow, uneven link's moment differs from its solid's).
+SIGMA_MOMENT = 0.7
+#: Spread of a normalised product of inertia around the solid's: standard deviation 0.12.
+SIGMA_PRODUCT = 0.12
+#: A typical link's mass over its geometry's volume (kg/m^3; median 1000) and the spread
+#: of its logarithm (standard deviation 0.96).
+RHO_TYPICAL = 1000.0
+SIGMA_DENSITY = 1.0
+#: Spread of the CoM's distance from the solid's centroid, in box diagonals (rms 0.13).
+SIGMA_COM = 0.13
+#: How much more the runner-up must score for the best edit to be proposed (chi-square
+#: units: a likelihood ratio of exp(MARGIN / 2), about 90).
+MARGIN = 9.0
+#: Prior cost of an edit by class: how unlikely the slip is before looking at the numbers.
+PRIOR_COST = {"none": 0.0, "mass-unit": 2.0, "tensor-unit": 2.0, "inertial-unit": 3.0,
+              "com-unit": 2.0, "products-sign": 2.0, "product-sign": 4.0, "order": 3.0,
+              "parallel-axis": 2.0, "rpy": 3.0, "entry-power": 4.0}
+#: Slip classes, in the order the docs list them.
+SLIP_CLASSES = tuple(k for k in PRIOR_COST if k != "none")
+ENTRIES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+#: Powers of ten tried on a single entry.
+ENTRY_POWERS = tuple(k for k in range(-9, 10) if k != 0)
+_DIAG = (0, 3, 5)
+_PRODUCTS = ((1, 0, 1), (2, 0, 2), (4, 1, 2))  # (entry index, row, column)
+#: Two edits whose values agree to this relative tolerance are the same edit.
+SAME_RTOL = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class Written:
+    """An inertial as written: the values a slip is made in, in the file's own terms.
+
+    mass : kg. xyz : (3,) CoM in the link frame, m. rpy : (3,) the inertial origin's
+    angles. entries : (6,) ``ixx ixy ixz iyy iyz izz`` along the origin's axes, URDF sign
+    convention (``ixy = -integral(xy dm)``), kg m^2.
+    """
+
+    mass: float
+    xyz: np.ndarray
+    rpy: np.ndarray
+    entries: np.ndarray
+
+    def __post_init__(self) -> None:
+        for name, shape in (("xyz", (3,)), ("rpy", (3,)), ("entries", (6,))):
+            value = np.asarray(getattr(self, name), dtype=np.float64)
+            if value.shape != shape:
+                raise ValueError(f"{name} must have shape {shape}, got {value.shape}")
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "mass", float(self.mass))
+
+    def tensor(self) -> np.ndarray:
+        """(3, 3) tensor about the CoM along the link frame's axes."""
+        rot = rpy_matrix(self.rpy)
+        turned: np.ndarray = rot @ _matrix(self.entries) @ rot.T
+        return turned
+
+
+@dataclass(frozen=True, eq=False)
+class Solid:
+    """The homogeneous solid of the link's geometry, the reference an edit is held to.
+
+    volume : m^3. centroid : (3,) link frame, m. inertia : (3, 3) about the centroid along
+    the link's axes at unit mass (kg m^2 per kg: scaled by the mass under test).
+    lo, hi : (3,) the geometry's bounding box in the link frame.
+    """
+
+    volume: float
+    centroid: np.ndarray
+    inertia: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+    @property
+    def diagonal(self) -> float:
+        return float(np.linalg.norm(np.asarray(self.hi) - np.asarray(self.lo)))
+
+
+@dataclass(frozen=True)
+class Limits:
+    """What ``check`` accepts, so that an edit it proposes is not flagged again.
+
+    density : (lo, hi) kg/m^3. com_outside : CoM outside the box by at most this fraction
+    of its diagonal. ratio : tensor trace within this factor of the solid's either way.
+    band : the error bar: the relative Frobenius difference from the solid's tensor an
+    edit may have.
+    """
+
+    density: tuple[float, float] = (50.0, 25000.0)
+    com_outside: float = 0.25
+    ratio: float = 100.0
+    band: float = 0.8
+
+
+@dataclass(frozen=True, eq=False)
+class Edit:
+    """One candidate edit of the written values.
+
+    slip : its class (a key of :data:`PRIOR_COST`). name : short ("izz x1e-3").
+    words : what the author likely did ("izz looks 1000x too large").
+    written : the values after the edit. changed : which of "mass", "com", "tensor"
+    the edit changes. tensor : the edited tensor in the link frame (None: ``written``'s).
+    """
+
+    slip: str
+    name: str
+    words: str
+    written: Written
+    changed: frozenset[str]
+    link_tensor: np.ndarray | None = field(default=None)
+
+    def tensor(self) -> np.ndarray:
+        return self.link_tensor if self.link_tensor is not None else self.written.tensor()
+
+
+@dataclass(frozen=True, eq=False)
+class Scored:
+    """An edit with its score (lower is likelier), feasibility and tensor error."""
+
+    edit: Edit
+    score: float
+    feasible: bool
+    #: relative Frobenius difference from the solid's tensor at the edited mass
+    tensor_error: float
+    #: why it is not feasible ("" when it is)
+    why_not: str = ""
+
+
+@dataclass(frozen=True, eq=False)
+class Proposal:
+    """The edit proposed and the runner-up: the next feasible edit, else the next-best
+    infeasible one (None: no other edit). ``margin``: how much more the next feasible
+    edit scores (inf: none is feasible)."""
+
+    best: Scored
+    runner_up: Scored | None
+    margin: float
+
+
+def _matrix(e: np.ndarray) -> np.ndarray:
+    return np.array([[e[0], e[1], e[2]], [e[1], e[3], e[4]], [e[2], e[4], e[5]]])
+
+
+def _entries(t: np.ndarray) -> np.ndarray:
+    return np.array([t[0, 0], t[0, 1], t[0, 2], t[1, 1], t[1, 2], t[2, 2]])
+
+
+def decimal_shift(x: np.ndarray | float, k: int) -> np.ndarray:
+    """``x`` x 10^k as the decimal shift of its shortest text (1.05 x 1e-3 is 0.00105, not
+    0.0010500000000000002): a slip undone gives back the number the author typed."""
+    values = np.atleast_1d(np.asarray(x, dtype=np.float64))
+    return np.array([float(Decimal(repr(float(v))).scaleb(k)) if np.isfinite(v) else v
+                     for v in values])
+
+
+def _times(k: int) -> str:
+    return f"{10.0 ** abs(k):g}x too {'large' if k > 0 else 'small'}"
+
+
+def candidate_edits(w: Written) -> list[Edit]:
+    """Every one-slip edit of ``w`` (no edit first), duplicates of an earlier one dropped.
+
+    Each single entry x10^k (k in -9..9), the mass x10^+-3, the tensor x10^+-3, +-6, +-9,
+    mass and tensor x10^+-3 together (an inertial in grams), the products negated (all, or
+    one), the entries read in another order (diagonal first, a swap of two products), the
+    parallel-axis term removed (a tensor about the link origin), the CoM x10^+-3, and the
+    origin's rpy ignored or inverted.
+    """
+    out = [Edit("none", "no edit", "as written", w, frozenset())]
+
+    def add(slip: str, name: str, words: str, changed: str, mass: float | None = None,
+            xyz: np.ndarray | None = None, entries: np.ndarray | None = None,
+            link_tensor: np.ndarray | None = None) -> None:
+        edited = Written(w.mass if mass is None else mass, w.xyz if xyz is None else xyz,
+                         w.rpy, w.entries if entries is None else entries)
+        out.append(Edit(slip, name, words, edited, frozenset(changed.split()), link_tensor))
+
+    for i, label in enumerate(ENTRIES):
+        if w.entries[i] == 0:
+            continue
+        for k in ENTRY_POWERS:
+            e = w.entries.copy()
+            e[i] = decimal_shift(e[i], -k)[0]
+            add("entry-power", f"{label} x1e{-k:+d}", f"{label} looks {_times(k)}", "tensor",
+                entries=e)
+    for k in (3, -3):
+        add("mass-unit", f"mass x1e{-k:+d}", "mass in grams" if k > 0 else
+            "mass 1000x too small", "mass", mass=decimal_shift(w.mass, -k)[0])
+        add("inertial-unit", f"mass and tensor x1e{-k:+d}", "mass and tensor in grams" if
+            k > 0 else "mass and tensor 1000x too small", "mass tensor",
+            mass=decimal_shift(w.mass, -k)[0], entries=decimal_shift(w.entries, -k))
+        add("com-unit", f"com x1e{-k:+d}", "CoM in millimetres" if k > 0 else
+            "CoM 1000x too small", "com", xyz=decimal_shift(w.xyz, -k))
+    units = {3: "g m^2 or kg mm^2 x 1e-3", 6: "kg mm^2", 9: "g mm^2"}
+    for k in (3, 6, 9, -3, -6, -9):
+        words = f"tensor in {units[k]}" if k > 0 else f"tensor {_times(k)}"
+        add("tensor-unit", f"tensor x1e{-k:+d}", words, "tensor",
+            entries=decimal_shift(w.entries, -k))
+    sign = w.entries.copy()
+    sign[[1, 2, 4]] *= -1
+    add("products-sign", "products negated", "products of inertia with CAD's sign "
+        "(+integral xy dm; URDF wants -integral xy dm)", "tensor", entries=sign)
+    for i, _, _ in _PRODUCTS:
+        e = w.entries.copy()
+        e[i] *= -1
+        add("product-sign", f"{ENTRIES[i]} negated", f"{ENTRIES[i]} with the opposite sign",
+            "tensor", entries=e)
+    e = w.entries
+    # read as URDF's ixx ixy ixz iyy iyz izz, written in MuJoCo's ixx iyy izz ixy ixz iyz
+    add("order", "entries diagonal-first", "entries written diagonal first (ixx iyy izz ixy "
+        "ixz iyz) and read as ixx ixy ixz iyy iyz izz", "tensor",
+        entries=np.array([e[0], e[3], e[4], e[1], e[5], e[2]]))
+    add("order", "entries upper-triangle", "entries written row by row (ixx ixy ixz iyy iyz "
+        "izz) and read diagonal first", "tensor",
+        entries=np.array([e[0], e[3], e[5], e[1], e[2], e[4]]))
+    for a, b in ((1, 2), (1, 4), (2, 4)):
+        s = e.copy()
+        s[[a, b]] = s[[b, a]]
+        add("order", f"{ENTRIES[a]}/{ENTRIES[b]} swapped", f"{ENTRIES[a]} and {ENTRIES[b]} "
+            "swapped", "tensor", entries=s)
+    rot = rpy_matrix(w.rpy)
+    shift = w.mass * (float(w.xyz @ w.xyz) * np.eye(3) - np.outer(w.xyz, w.xyz))
+    add("parallel-axis", "parallel axis removed", "tensor about the link origin, not the CoM "
+        "(the parallel-axis shift forgotten)", "tensor", link_tensor=w.tensor() - shift)
+    if np.any(w.rpy != 0):
+        add("rpy", "rpy ignored", "tensor already along the link's axes: the origin's rpy "
+            "applied to it by mistake", "tensor", link_tensor=_matrix(w.entries))
+        add("rpy", "rpy inverted", "the origin's rotation given the other way round",
+            "tensor", link_tensor=rot.T @ _matrix(w.entries) @ rot)
+    return _distinct(out)
+
+
+def _distinct(edits: list[Edit]) -> list[Edit]:
+    """Drop an edit whose values equal an earlier one's (a zero product negated is no edit)."""
+    keys = np.array([np.concatenate(([e.written.mass], e.written.xyz, _entries(e.tensor())))
+                     for e in edits])
+    kept: list[int] = []
+    for i, key in enumerate(keys):
+        if kept:
+            same = np.all(np.abs(keys[kept] - key) <= SAME_RTOL * np.abs(key), axis=1)
+            if np.any(same):
+                continue
+        kept.append(i)
+    return [edits[i] for i in kept]
+
+
+def score_edit(edit: Edit, solid: Solid, limits: Limits) -> Scored:
+    """The edit's score against ``solid`` (module doc) and whether it is feasible."""
+    w = edit.written
+    tensor = edit.tensor()
+    prior = PRIOR_COST[edit.slip]
+    if not (math.isfinite(w.mass) and w.mass > 0 and np.all(np.isfinite(w.xyz))
+            and np.all(np.isfinite(tensor))):
+        return Scored(edit, math.inf, False, math.inf, "not finite or mass not positive")
+    geo = w.mass * np.asarray(solid.inertia)
+    err = float(np.linalg.norm(tensor - geo)) / max(float(np.linalg.norm(geo)), 1e-300)
+    # a moment below a thousandth of the trace is compared as that thousandth: a flat
+    # plate's smallest moment says nothing, and an edit is not scored on round-off
+    floor = 1e-3 * float(np.trace(geo))
+    d = np.maximum(np.diag(tensor), 1e-3 * max(float(np.trace(tensor)), floor))
+    g = np.maximum(np.diag(geo), floor)
+    fit = float(np.sum((np.log(d / g) / SIGMA_MOMENT) ** 2))
+    for _, r, c in _PRODUCTS:
+        mine = tensor[r, c] / (math.sqrt(d[r]) * math.sqrt(d[c]))
+        theirs = geo[r, c] / (math.sqrt(g[r]) * math.sqrt(g[c]))
+        fit += ((mine - theirs) / SIGMA_PRODUCT) ** 2
+    rho = w.mass / solid.volume
+    fit += (math.log(rho / RHO_TYPICAL) / SIGMA_DENSITY) ** 2
+    diag = solid.diagonal
+    if diag > 0:
+        fit += (float(np.linalg.norm(w.xyz - solid.centroid)) / diag / SIGMA_COM) ** 2
+    score = fit + prior
+    why = _infeasible(w, tensor, geo, err, solid, limits)
+    return Scored(edit, score, not why, err, why)
+
+
+def _infeasible(w: Written, tensor: np.ndarray, geo: np.ndarray, err: float, solid: Solid,
+                limits: Limits) -> str:
+    if not diagnose_tensor(tensor).valid:
+        return "tensor invalid"
+    lo, hi = limits.density
+    if not lo <= w.mass / solid.volume <= hi:
+        return "implausible density"
+    box_lo, box_hi = np.asarray(solid.lo), np.asarray(solid.hi)
+    outside = float(np.linalg.norm(np.maximum(np.maximum(box_lo - w.xyz, w.xyz - box_hi), 0)))
+    if outside > limits.com_outside * solid.diagonal:
+        return "CoM outside the geometry"
+    ratio = float(np.trace(tensor) / np.trace(geo))
+    if not 1 / limits.ratio <= ratio <= limits.ratio:
+        return "tensor size implausible"
+    if err > limits.band:
+        return f"tensor {100 * err:.0f} % from the geometry's, beyond its error bar"
+    return ""
+
+
+def placeholder_shaped(w: Written) -> bool:
+    """Equal diagonal entries and no products: a placeholder someone typed (0.001 three
+    times, 1e-8 on a 0.1 g camera), not a CAD value with a slip in it; no edit of it is
+    what the author meant."""
+    e = w.entries
+    return bool(e[0] == e[3] == e[5] and not np.any(e[[1, 2, 4]]))
+
+
+def rank_edits(w: Written, solid: Solid, limits: Limits | None = None) -> list[Scored]:
+    """Every candidate edit (:func:`candidate_edits`) scored, best (lowest) first."""
+    limits = limits or Limits()
+    scored = [score_edit(e, solid, limits) for e in candidate_edits(w)]
+    return sorted(scored, key=lambda s: (s.score, PRIOR_COST[s.edit.slip]))
+
+
+def propose(w: Written, solid: Solid, limits: Limits | None = None) -> Proposal | None:
+    """The edit that undoes the slip, when one is clearly it (module doc), else None."""
+    if placeholder_shaped(w):
+        return None
+    ranked = rank_edits(w, solid, limits)
+    feasible = [s for s in ranked if s.feasible]
+    if not feasible or feasible[0].edit.slip == "none":
+        return None
+    best = feasible[0]
+    if len(feasible) > 1:
+        runner: Scored | None = feasible[1]
+        margin = feasible[1].score - best.score
+    else:
+        runner = next((s for s in ranked if s is not best), None)
+        margin = math.inf
+    return Proposal(best, runner, margin) if margin >= MARGIN else None
+
+
+def written(mass: float, xyz: ArrayLike, rpy: ArrayLike, entries: ArrayLike) -> Written:
+    """A :class:`Written` from plain values."""
+    return Written(mass, np.asarray(xyz, dtype=np.float64), np.asarray(rpy, dtype=np.float64),
+                   np.asarray(entries, dtype=np.float64))
