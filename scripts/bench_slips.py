@@ -86,9 +86,9 @@ def plant(slip: str, i: Inertial, rng: np.random.Generator) -> tuple[Inertial, s
         return _with(i, entries=e), f"entry {which} x1e{k:+d}"
     if slip == "mass-unit":
         return _with(i, mass=decimal_shift(i.mass, 3 * sign)[0]), f"mass x1e{3 * sign:+d}"
-    if slip == "inertial-unit":
-        return (_with(i, mass=decimal_shift(i.mass, 3 * sign)[0],
-                      entries=decimal_shift(e, 3 * sign)), f"mass and tensor x1e{3 * sign:+d}")
+    if slip == "inertial-unit":  # the whole inertial in grams
+        return (_with(i, mass=decimal_shift(i.mass, 3)[0], entries=decimal_shift(e, 3)),
+                "mass and tensor x1e+3")
     if slip == "tensor-unit":
         k = int(rng.choice([3, 6, 9])) * sign
         return _with(i, entries=decimal_shift(e, k)), f"tensor x1e{k:+d}"

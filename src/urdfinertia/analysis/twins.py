@@ -160,8 +160,8 @@ def _differ(a: Solid, b: Solid, tol: float) -> bool:
 
 
 def _copyable(b: _Body) -> bool:
-    """An inertial worth tracing: a real mass, not a typed placeholder (equal diagonal, no
-    products: 1e-8 on every camera frame is shared, not copied)."""
+    """An inertial worth tracing: a real mass, not a typed placeholder (equal diagonal:
+    1e-8 on every camera frame is shared, not copied)."""
     return b.raw.mass >= COPY_MIN_MASS and not placeholder_shaped(b.written)
 
 

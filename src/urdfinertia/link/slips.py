@@ -28,7 +28,11 @@ from urdfinertia.link.errorbar import MODEL_P80
 from urdfinertia.link.mass import MassSource
 from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
 from urdfinertia.link.parts import MeshSource, geometry_parts
-from urdfinertia.link.plausibility import COM_OUTSIDE_WARN, INERTIA_RATIO_LIMIT
+from urdfinertia.link.plausibility import (
+    COM_OUTSIDE_ERROR,
+    COM_OUTSIDE_WARN,
+    INERTIA_RATIO_LIMIT,
+)
 
 if TYPE_CHECKING:
     from urdfinertia.descriptions.model import Robot
@@ -42,7 +46,8 @@ SLIP_TRIGGERS = frozenset({
     "inertia-vs-geometry"})
 #: What ``check`` accepts, with the error bar of a tensor whose CoM is not known (the
 #: widest calibrated band): an edit outside it is not proposed.
-LIMITS = Limits(PLAUSIBLE_DENSITY, COM_OUTSIDE_WARN, INERTIA_RATIO_LIMIT, MODEL_P80)
+LIMITS = Limits(PLAUSIBLE_DENSITY, COM_OUTSIDE_WARN, INERTIA_RATIO_LIMIT, MODEL_P80,
+                COM_OUTSIDE_ERROR)
 
 
 @dataclass(frozen=True, eq=False)
