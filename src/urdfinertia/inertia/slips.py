@@ -212,6 +212,11 @@ def _times(k: int) -> str:
     return f"{10.0 ** abs(k):g}x too {'large' if k > 0 else 'small'}"
 
 
+def no_edit(w: Written) -> Edit:
+    """The written values as they are: the baseline every edit is ranked against."""
+    return Edit("none", "no edit", "as written", w, frozenset())
+
+
 def candidate_edits(w: Written) -> list[Edit]:
     """Every one-slip edit of ``w`` (no edit first), duplicates of an earlier one dropped.
 
@@ -222,7 +227,7 @@ def candidate_edits(w: Written) -> list[Edit]:
     parallel-axis term removed (a tensor about the link origin), the CoM x10^+-3, and the
     origin's rpy ignored or inverted.
     """
-    out = [Edit("none", "no edit", "as written", w, frozenset())]
+    out = [no_edit(w)]
 
     def add(slip: str, name: str, words: str, changed: str, mass: float | None = None,
             xyz: np.ndarray | None = None, entries: np.ndarray | None = None,
