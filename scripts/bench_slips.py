@@ -18,7 +18,11 @@ Then every proposal on the robots as shipped (nothing planted), for a person to 
 the false-alarm rate: the search run on every clean sample as if ``check`` had flagged it
 (``check`` does not: a clean link is never searched), and the proposals on all links.
 
-Usage: ``nice python scripts/bench_slips.py [--max-files N] [--seed S] [--markdown]``
+``--twins`` lists instead the copies and mirror twins ``check`` reports over the same
+robots (de-duplicated by file name).
+
+Usage: ``nice python scripts/bench_slips.py [--max-files N] [--seed S] [--markdown]
+[--twins]``
 """
 
 from __future__ import annotations
@@ -86,9 +90,9 @@ def plant(slip: str, i: Inertial, rng: np.random.Generator) -> tuple[Inertial, s
         return _with(i, entries=e), f"entry {which} x1e{k:+d}"
     if slip == "mass-unit":
         return _with(i, mass=decimal_shift(i.mass, 3 * sign)[0]), f"mass x1e{3 * sign:+d}"
-    if slip == "inertial-unit":
-        return (_with(i, mass=decimal_shift(i.mass, 3 * sign)[0],
-                      entries=decimal_shift(e, 3 * sign)), f"mass and tensor x1e{3 * sign:+d}")
+    if slip == "inertial-unit":  # the whole inertial in grams
+        return (_with(i, mass=decimal_shift(i.mass, 3)[0], entries=decimal_shift(e, 3)),
+                "mass and tensor x1e+3")
     if slip == "tensor-unit":
         k = int(rng.choice([3, 6, 9])) * sign
         return _with(i, entries=decimal_shift(e, k)), f"tensor x1e{k:+d}"
@@ -165,7 +169,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--max-files", type=int, default=40, help="files per package (spread)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--markdown", action="store_true", help="tables for docs/slips.md")
+    ap.add_argument("--twins", action="store_true",
+                    help="only list the copies and mirror twins check reports, per robot")
     args = ap.parse_args(argv)
+    if args.twins:
+        return list_twins(args.max_files, args.markdown)
     rng = np.random.default_rng(args.seed)
     options = FixOptions()
     meshes = MeshLibrary()
@@ -221,6 +229,30 @@ def main(argv: list[str] | None = None) -> int:
     elapsed = time.perf_counter() - t0
     _print(counts, wrong, shipped, samples, links_judged, clean_alarms, elapsed,
            args.markdown)
+    return 0
+
+
+def list_twins(max_files: int, markdown: bool) -> int:
+    """Every copy and mirror-twin finding over the corpus (robots de-duplicated by name)."""
+    from urdfinertia.analysis.twins import twin_findings
+
+    meshes, seen, rows, robots = MeshLibrary(), set(), [], 0
+    for package, files in packages(max_files).items():
+        for path in files:
+            try:
+                robot, _ = read_description(path)
+            except Exception:  # noqa: BLE001
+                continue
+            if path.name in seen:
+                continue
+            seen.add(path.name)
+            robots += 1
+            for f in twin_findings(robot, meshes, FixOptions()):
+                rows.append([package, path.name, f.link or "", f.code, f.message])
+    counts = Counter(r[3] for r in rows)
+    print(f"{robots} robots: {counts['inertial-copied']} copies, "
+          f"{counts['twins-disagree']} twins that disagree")
+    _table(["package", "file", "link", "code", "message"], rows, markdown)
     return 0
 
 

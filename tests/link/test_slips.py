@@ -11,6 +11,7 @@ import json
 import re
 from pathlib import Path
 
+import jsonschema
 import numpy as np
 import pytest
 
@@ -125,6 +126,8 @@ def test_json_and_sarif_carry_the_proposal(tmp_path):
     assert slip["runner_up"]["edit"] == "izz x1e-2" and slip["margin"] >= 9
     assert slip["score"] < slip["runner_up"]["score"]
     doc = json.loads(sarif.read_text())
+    schema = json.loads((DATA.parent / "sarif-schema-2.1.0.json").read_text())
+    jsonschema.validate(doc, schema)
     result = next(r for r in doc["runs"][0]["results"] if r["ruleId"] == "UI601")
     change = result["fixes"][0]["artifactChanges"][0]
     rep = change["replacements"][0]
@@ -146,3 +149,46 @@ def test_fix_json_has_the_slip(tmp_path):
     assert main(["fix", str(DATA / "izz_slip.urdf"), "-o", str(out), "--no-slips",
                  "-q"]) == 0
     assert b'izz="0.00105"' not in out.read_bytes()
+
+
+@pytest.mark.corpus
+def test_slips_planted_into_a_real_robot_are_undone_or_left():
+    """example-robot-data's Panda: into each link's CAD inertial one slip of three classes
+    is planted; the search gives back the CAD values or proposes nothing, never another
+    edit (scripts/bench_slips.py measures this over the whole corpus)."""
+    import dataclasses
+
+    from support.corpus import example_robot_data_dir
+
+    from urdfinertia.descriptions.kinematics import Kinematics
+    from urdfinertia.inertia.slips import decimal_shift
+    from urdfinertia.link.bounds import BoundsCache
+    from urdfinertia.link.policy import decide_link
+
+    erd = example_robot_data_dir()
+    path = None if erd is None else erd / "robots/panda_description/urdf/panda.urdf"
+    if path is None or not path.is_file():
+        pytest.skip("example-robot-data is not installed")
+    robot, _ = read_description(path)
+    kin, meshes = Kinematics(robot), MeshLibrary()
+    cache, right, tried = BoundsCache(meshes), 0, 0
+    for link in robot.links:
+        i = link.inertial
+        if i is None or not link.collisions or decide_link(
+                link, robot, kin, FixOptions(), meshes, cache, path.parent).why != "plausible":
+            continue
+        for slipped in (dataclasses.replace(i, mass=decimal_shift(i.mass, 3)[0]),
+                        dataclasses.replace(i, izz=decimal_shift(i.izz, 3)[0]),
+                        dataclasses.replace(i, **{k: decimal_shift(getattr(i, k), 6)[0]
+                                                  for k in ("ixx", "ixy", "ixz", "iyy",
+                                                            "iyz", "izz")})):
+            d = decide_link(dataclasses.replace(link, inertial=slipped), robot, kin,
+                            FixOptions(), meshes, cache, path.parent)
+            tried += 1
+            if d.slip is None:
+                continue
+            truth = RawInertial.from_inertial(i)
+            assert d.slip.after.mass == truth.mass, (link.name, d.slip.edit)
+            np.testing.assert_allclose(d.slip.after.inertia, truth.inertia, rtol=1e-12)
+            right += 1
+    assert tried >= 15 and right >= tried // 2, (right, tried)

@@ -26,9 +26,10 @@ from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import Link, Robot
 from urdfinertia.inertia.slips import (
+    Scored,
     Solid,
     Written,
-    candidate_edits,
+    no_edit,
     placeholder_shaped,
     score_edit,
 )
@@ -72,6 +73,7 @@ class _Body:
     read: Callable[[Link], Solid | None]
     _solid: Solid | None = None
     _done: bool = False
+    _scored: Scored | None = None
 
     @property
     def solid(self) -> Solid | None:
@@ -83,12 +85,17 @@ class _Body:
         """The written inertial's score against its own geometry (lower: agrees better)."""
         if self.solid is None:
             return float("inf")
-        return score_edit(candidate_edits(self.written)[0], self.solid, LIMITS).score
+        return self.scored().score
 
     def feasible(self) -> bool:
         """The written inertial is valid and plausible against its own geometry."""
-        return self.solid is not None and score_edit(
-            candidate_edits(self.written)[0], self.solid, LIMITS).feasible
+        return self.solid is not None and self.scored().feasible
+
+    def scored(self) -> Scored:
+        assert self.solid is not None
+        if self._scored is None:
+            self._scored = score_edit(no_edit(self.written), self.solid, LIMITS)
+        return self._scored
 
 
 def twin_names(name: str) -> list[str]:
@@ -160,8 +167,8 @@ def _differ(a: Solid, b: Solid, tol: float) -> bool:
 
 
 def _copyable(b: _Body) -> bool:
-    """An inertial worth tracing: a real mass, not a typed placeholder (equal diagonal, no
-    products: 1e-8 on every camera frame is shared, not copied)."""
+    """An inertial worth tracing: a real mass, not a typed placeholder (equal diagonal:
+    1e-8 on every camera frame is shared, not copied)."""
     return b.raw.mass >= COPY_MIN_MASS and not placeholder_shaped(b.written)
 
 

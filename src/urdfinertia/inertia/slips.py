@@ -30,12 +30,13 @@ definite, triangle inequality), plausible against the geometry as ``check`` judg
 (:class:`Limits`), and its tensor lies within the geometry's error bar (relative Frobenius
 difference at most ``Limits.band``). :func:`propose` gives the lowest-scoring feasible edit
 when it is not "no edit" and the next feasible one (the runner-up, "no edit" included)
-scores at least :data:`MARGIN` more. A placeholder-shaped tensor (equal diagonal, no
-products) gets no proposal: it was typed, not exported with a slip.
+scores at least :data:`MARGIN` more. A placeholder-shaped tensor (three equal diagonal
+entries) gets no proposal: it was typed, not exported with a slip.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -131,7 +132,8 @@ class Limits:
     """What ``check`` accepts, so that an edit it proposes is not flagged again.
 
     density : (lo, hi) kg/m^3. com_outside : CoM outside the box by at most this fraction
-    of its diagonal. ratio : tensor trace within this factor of the solid's either way.
+    of its diagonal; com_slip: the CoM x1e-3 edit needs the written one this many diagonals
+    outside. ratio : tensor trace within this factor of the solid's either way.
     band : the error bar: the relative Frobenius difference from the solid's tensor an
     edit may have.
     """
@@ -140,6 +142,9 @@ class Limits:
     com_outside: float = 0.25
     ratio: float = 100.0
     band: float = 0.8
+    #: a CoM is taken as written in millimetres only when it lies farther than this many
+    #: box diagonals outside the geometry (nearer, it is a modelling error, not a unit)
+    com_slip: float = 10.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -207,16 +212,22 @@ def _times(k: int) -> str:
     return f"{10.0 ** abs(k):g}x too {'large' if k > 0 else 'small'}"
 
 
+def no_edit(w: Written) -> Edit:
+    """The written values as they are: the baseline every edit is ranked against."""
+    return Edit("none", "no edit", "as written", w, frozenset())
+
+
 def candidate_edits(w: Written) -> list[Edit]:
     """Every one-slip edit of ``w`` (no edit first), duplicates of an earlier one dropped.
 
     Each single entry x10^k (k in -9..9), the mass x10^+-3, the tensor x10^+-3, +-6, +-9,
-    mass and tensor x10^+-3 together (an inertial in grams), the products negated (all, or
+    mass and tensor x1e-3 together (an inertial in grams; not x1e3: a link 1000x too light
+    throughout cannot be told from a light envelope geometry), the products negated (all, or
     one), the entries read in another order (diagonal first, a swap of two products), the
     parallel-axis term removed (a tensor about the link origin), the CoM x10^+-3, and the
     origin's rpy ignored or inverted.
     """
-    out = [Edit("none", "no edit", "as written", w, frozenset())]
+    out = [no_edit(w)]
 
     def add(slip: str, name: str, words: str, changed: str, mass: float | None = None,
             xyz: np.ndarray | None = None, entries: np.ndarray | None = None,
@@ -236,9 +247,10 @@ def candidate_edits(w: Written) -> list[Edit]:
     for k in (3, -3):
         add("mass-unit", f"mass x1e{-k:+d}", "mass in grams" if k > 0 else
             "mass 1000x too small", "mass", mass=decimal_shift(w.mass, -k)[0])
-        add("inertial-unit", f"mass and tensor x1e{-k:+d}", "mass and tensor in grams" if
-            k > 0 else "mass and tensor 1000x too small", "mass tensor",
-            mass=decimal_shift(w.mass, -k)[0], entries=decimal_shift(w.entries, -k))
+        if k > 0:  # 1000x too light throughout is a light envelope's signature: not tried
+            add("inertial-unit", f"mass and tensor x1e{-k:+d}", "mass and tensor in grams",
+                "mass tensor", mass=decimal_shift(w.mass, -k)[0],
+                entries=decimal_shift(w.entries, -k))
         add("com-unit", f"com x1e{-k:+d}", "CoM in millimetres" if k > 0 else
             "CoM 1000x too small", "com", xyz=decimal_shift(w.xyz, -k))
     units = {3: "g m^2 or kg mm^2 x 1e-3", 6: "kg mm^2", 9: "g mm^2"}
@@ -331,9 +343,7 @@ def _infeasible(w: Written, tensor: np.ndarray, geo: np.ndarray, err: float, sol
     lo, hi = limits.density
     if not lo <= w.mass / solid.volume <= hi:
         return "implausible density"
-    box_lo, box_hi = np.asarray(solid.lo), np.asarray(solid.hi)
-    outside = float(np.linalg.norm(np.maximum(np.maximum(box_lo - w.xyz, w.xyz - box_hi), 0)))
-    if outside > limits.com_outside * solid.diagonal:
+    if _outside(w.xyz, solid) > limits.com_outside * solid.diagonal:
         return "CoM outside the geometry"
     ratio = float(np.trace(tensor) / np.trace(geo))
     if not 1 / limits.ratio <= ratio <= limits.ratio:
@@ -344,17 +354,28 @@ def _infeasible(w: Written, tensor: np.ndarray, geo: np.ndarray, err: float, sol
 
 
 def placeholder_shaped(w: Written) -> bool:
-    """Equal diagonal entries and no products: a placeholder someone typed (0.001 three
-    times, 1e-8 on a 0.1 g camera), not a CAD value with a slip in it; no edit of it is
-    what the author meant."""
+    """Three equal diagonal entries: a placeholder someone typed (0.001 three times, 1e-8 on
+    a 0.1 g camera, "5 5 5" with a product added), not a CAD value with a slip in it; no
+    edit of it is what the author meant. (A CAD sphere or cube has them too: its slips are
+    missed.)"""
     e = w.entries
-    return bool(e[0] == e[3] == e[5] and not np.any(e[[1, 2, 4]]))
+    return bool(e[0] == e[3] == e[5])
+
+
+def _outside(xyz: np.ndarray, solid: Solid) -> float:
+    """How far ``xyz`` lies outside the geometry's box (0 inside), m."""
+    lo, hi = np.asarray(solid.lo), np.asarray(solid.hi)
+    return float(np.linalg.norm(np.maximum(np.maximum(lo - xyz, xyz - hi), 0.0)))
 
 
 def rank_edits(w: Written, solid: Solid, limits: Limits | None = None) -> list[Scored]:
     """Every candidate edit (:func:`candidate_edits`) scored, best (lowest) first."""
     limits = limits or Limits()
+    far = _outside(w.xyz, solid) > limits.com_slip * solid.diagonal
     scored = [score_edit(e, solid, limits) for e in candidate_edits(w)]
+    scored = [dataclasses.replace(s, feasible=False, why_not="CoM not far enough out to be "
+                                  "in millimetres")
+              if s.edit.slip == "com-unit" and s.feasible and not far else s for s in scored]
     return sorted(scored, key=lambda s: (s.score, PRIOR_COST[s.edit.slip]))
 
 

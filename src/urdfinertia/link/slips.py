@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -28,7 +28,11 @@ from urdfinertia.link.errorbar import MODEL_P80
 from urdfinertia.link.mass import MassSource
 from urdfinertia.link.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
 from urdfinertia.link.parts import MeshSource, geometry_parts
-from urdfinertia.link.plausibility import COM_OUTSIDE_WARN, INERTIA_RATIO_LIMIT
+from urdfinertia.link.plausibility import (
+    COM_OUTSIDE_ERROR,
+    COM_OUTSIDE_WARN,
+    INERTIA_RATIO_LIMIT,
+)
 
 if TYPE_CHECKING:
     from urdfinertia.descriptions.model import Robot
@@ -42,7 +46,8 @@ SLIP_TRIGGERS = frozenset({
     "inertia-vs-geometry"})
 #: What ``check`` accepts, with the error bar of a tensor whose CoM is not known (the
 #: widest calibrated band): an edit outside it is not proposed.
-LIMITS = Limits(PLAUSIBLE_DENSITY, COM_OUTSIDE_WARN, INERTIA_RATIO_LIMIT, MODEL_P80)
+LIMITS = Limits(PLAUSIBLE_DENSITY, COM_OUTSIDE_WARN, INERTIA_RATIO_LIMIT, MODEL_P80,
+                COM_OUTSIDE_ERROR)
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,6 +144,26 @@ def link_solid(link: Link, meshes: MeshSource, cache: BoundsCache, options: FixO
     return Solid(volume, unit.com, unit.inertia, bounds[0], bounds[1])
 
 
+def _mass_fits_other_geometry(link: Link, mass: float, meshes: MeshSource,
+                              cache: BoundsCache, options: FixOptions, urdf_dir: Path) -> bool:
+    """The written mass has a plausible density in the link's other geometry (visual when
+    the collision was searched): the searched geometry is then not the body (contact
+    spheres, a marker, an envelope) and a mass slip is not what the numbers say.
+
+    A slip of the whole inertial (mass and tensor in grams) cannot be told from geometry
+    that is not the body by the numbers alone; the other geometry can tell them apart."""
+    role, _ = select_geometry(link, options.geometry)
+    other = {"collision": "visual", "visual": "collision"}.get(role)
+    if other is None:
+        return False
+    alternative = replace(options, geometry=other)
+    solid = link_solid(link, meshes, cache, alternative, urdf_dir)
+    if solid is None:
+        return False
+    lo, hi = PLAUSIBLE_DENSITY
+    return lo <= mass / solid.volume <= hi
+
+
 def find_slip(link: Link, codes: set[str], meshes: MeshSource, cache: BoundsCache,
               options: FixOptions, urdf_dir: Path) -> SlipProposal | None:
     """The slip proposal for a link flagged with ``codes``, when one is clear."""
@@ -152,6 +177,9 @@ def find_slip(link: Link, codes: set[str], meshes: MeshSource, cache: BoundsCach
         return None
     found = propose(w, solid, LIMITS)
     if found is None:
+        return None
+    if "mass" in found.best.edit.changed and _mass_fits_other_geometry(
+            link, w.mass, meshes, cache, options, urdf_dir):
         return None
     edit = found.best.edit
     after = MassProperties(edit.written.mass, edit.written.xyz, edit.tensor())
