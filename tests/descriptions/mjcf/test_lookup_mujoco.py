@@ -61,3 +61,34 @@ def test_mesh_of_an_included_file_beside_it(tmp_path, main_copy):
     result = _compare(path)
     side = 0.3 if main_copy else 0.1
     assert result.links[0].assembly.total.mass == pytest.approx(1000 * side**3, rel=1e-6)
+
+
+def test_bodies_inside_replicate_are_read_and_written_once_for_every_copy(tmp_path):
+    """``<replicate>`` copies a body template; its written inertial serves every copy."""
+    path = tmp_path / "model.xml"
+    path.write_text("""<mujoco>
+  <worldbody>
+    <body name="base"><joint/>
+      <geom type="box" size="0.1 0.1 0.1"/>
+      <replicate count="3" offset="0.3 0 0">
+        <body name="arm" pos="0 0 0.2"><joint/>
+          <inertial pos="0 0 0" mass="2" diaginertia="1 1 5"/>
+          <geom type="box" size="0.05 0.05 0.2"/>
+        </body>
+      </replicate>
+    </body>
+  </worldbody>
+</mujoco>""")
+    result = fix_file(path)
+    arm = next(r for r in result.links if r.name == "arm")
+    assert arm.changed, arm.decision  # 1 + 1 < 5: invalid, recomputed from the box
+    out = tmp_path / "out.xml"
+    result.save(out)
+    model = compiled(out)
+    new = arm.assembly.total
+    copies = [i for i in range(model.nbody) if model.body(i).name.startswith("arm")]
+    assert len(copies) == 3
+    for i in copies:
+        mass, com, tensor = body_inertia(model, model.body(i).name)
+        np.testing.assert_allclose(mass, new.mass, rtol=1e-9)
+        np.testing.assert_allclose(tensor, new.inertia, rtol=1e-5, atol=1e-12)
