@@ -42,7 +42,8 @@ def test_pages_and_sources_hold_no_machine_paths_history_or_hashes():
     it changed (history belongs in git log and the changelog)."""
     bad = re.compile(r"(/work/|/tmp/|/root/|\bissue \d+|\bcommit [0-9a-f]{7,40}\b)",
                      re.IGNORECASE)
-    pages = [*FILES, ROOT / "CHANGELOG.md", *sorted((ROOT / "src").rglob("*.py"))]
+    pages = [*FILES, ROOT / "CHANGELOG.md", *sorted((ROOT / "src").rglob("*.py")),
+             *sorted((ROOT / "scripts").glob("*.*"))]
     found = [f"{p.relative_to(ROOT)}:{i}: {line.strip()}" for p in pages
              for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
              if bad.search(line)]
