@@ -62,6 +62,13 @@ def test_centroid_nearest_the_kept_com_among_the_same_kind():
     assert choose([far, box], 2.0, np.zeros(3))[0] is far
 
 
+def test_a_centroid_on_the_kept_com_says_the_tensor_came_from_that_geometry():
+    on = _candidate("collision", "primitive", 1e-3, centroid=(1e-5, 0, 0))
+    mesh = _candidate("visual", "mesh", 1e-3, centroid=(0.02, 0, 0))
+    best, why = choose([mesh, on], 2.0, np.zeros(3))
+    assert best is on and why.why == "centroid on the kept CoM"
+
+
 def test_a_whole_set_beats_one_with_an_element_dropped():
     partial = _candidate("visual", "mesh", 1e-3, dropped=("x",))
     whole = _candidate("collision", "primitive", 1e-3)

@@ -15,10 +15,13 @@ Each candidate set is integrated at unit density and judged on what the link sti
    with the kept mass is not the body;
    With no mass kept, an MJCF body's own geoms (what MuJoCo computes with, materials
    included) are used;
-3. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
+3. a centroid on the kept CoM (within :data:`CENTROID_MATCH` of the box diagonal): the
+   inertial was computed from that very geometry (a tool's output, or MuJoCo's), so its
+   shape is the one that gave the tensor too;
+4. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
    (:data:`KINDS`); a mesh is a hull when its volume is within :data:`CONVEX_RATIO` of its
    convex hull's;
-4. among sets of that kind, the centroid nearest the kept CoM (as a fraction of each
+5. among sets of that kind, the centroid nearest the kept CoM (as a fraction of each
    set's box diagonal). Measured (``scripts/bench_cad.py``), letting a far centroid hand
    the choice to a less faithful kind made the error worse, at any threshold tried.
 
@@ -45,6 +48,8 @@ if TYPE_CHECKING:
 
 #: Kinds of geometry, least to most faithful to the body.
 KINDS = ("primitive", "hull", "mesh")
+#: A centroid within this fraction of the box diagonal of the kept CoM matches it.
+CENTROID_MATCH = 1e-3
 #: Words for the kinds, as the table and ``explain`` say them.
 KIND_WORDS = {"primitive": "primitive stand-ins", "hull": "convex hull",
               "mesh": "detailed mesh"}
@@ -236,6 +241,10 @@ def choose(candidates: Sequence[Candidate], mass: float | None, com: np.ndarray 
     if fits and len(fits) < len(pool):
         pool = fits
         reasons.append("implied density plausible")
+    on_com = [c for c in pool if (o := offset(c)) is not None and o < CENTROID_MATCH]
+    if on_com and len(on_com) < len(pool):
+        pool = on_com
+        reasons.append("centroid on the kept CoM")
     rank = {k: i for i, k in enumerate(KINDS)}
     pool.sort(key=lambda c: -rank[c.kind])
     best = pool[0]
