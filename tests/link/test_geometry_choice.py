@@ -58,7 +58,7 @@ def test_centroid_nearest_the_kept_com_among_the_same_kind():
     assert best is near and why.why == "centroid nearest the kept CoM"
     assert why.offset == pytest.approx(0.01)
     # a far centroid does not hand the choice to a less faithful kind (measured worse)
-    box = _candidate("collision", "primitive", 1e-3, centroid=(0.0, 0, 0))
+    box = _candidate("collision", "primitive", 1e-3, centroid=(0.05, 0, 0))
     assert choose([far, box], 2.0, np.zeros(3))[0] is far
 
 
