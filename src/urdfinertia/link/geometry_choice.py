@@ -12,15 +12,14 @@ Each candidate set is integrated at unit density and judged on what the link sti
 1. every element read (a set with an element dropped loses against a whole one);
 2. a plausible implied density (kept mass over volume within
    :data:`~urdfinertia.link.options.PLAUSIBLE_DENSITY`): a volume that no material fills
-   with the kept mass is not the body;
-   With no mass kept, an MJCF body's own geoms (what MuJoCo computes with, materials
-   included) are used;
+   with the kept mass is not the body. With no mass kept, an MJCF body's own geoms
+   (what MuJoCo computes with, materials included) are used;
 3. a centroid on the kept CoM (within :data:`CENTROID_MATCH` of the box diagonal): the
    inertial was computed from that very geometry (a tool's output, or MuJoCo's), so its
    shape is the one that gave the tensor too;
 4. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
-   (:data:`KINDS`); a mesh is a hull when its volume is within :data:`CONVEX_RATIO` of its
-   convex hull's;
+   (:data:`KINDS`); a mesh is a hull when its volume is at least :data:`CONVEX_RATIO`
+   of its convex hull's;
 5. among sets of that kind, the centroid nearest the kept CoM (as a fraction of each
    set's box diagonal). Measured (``scripts/bench_cad.py``), letting a far centroid hand
    the choice to a less faithful kind made the error worse, at any threshold tried.
