@@ -135,8 +135,12 @@ def usable_parts(link: Link, refs: Sequence[GeometryRef], meshes: MeshSource,
 
 
 def evaluate(link: Link, role: str, refs: tuple[GeometryRef, ...], meshes: MeshSource,
-             urdf_dir: Path) -> Candidate | None:
-    """One candidate set integrated at unit density; None when nothing of it is usable."""
+             urdf_dir: Path, detail: bool = True) -> Candidate | None:
+    """One candidate set integrated at unit density; None when nothing of it is usable.
+
+    ``detail=False`` (nothing to choose and no CoM to hold it against) skips what needs the
+    mesh files' points: the box diagonal (None) and hull detection (a mesh is "mesh").
+    """
     found: list[Problem] = []
     parts = usable_parts(link, refs, meshes, urdf_dir, found)
     signed = [(-p.volume if p.cavity else p.volume) for p in parts]
@@ -146,6 +150,10 @@ def evaluate(link: Link, role: str, refs: tuple[GeometryRef, ...], meshes: MeshS
     centres = [p.pose[:3, :3] @ p.unit.com + p.pose[:3, 3] for p in parts]
     centroid = sum((v * c for v, c in zip(signed, centres, strict=True)),
                    start=np.zeros(3)) / volume
+    if not detail:
+        kind = "primitive" if all(p.method.startswith("closed form") for p in parts) \
+            else "mesh"
+        return Candidate(role, refs, tuple(parts), tuple(found), kind, volume, centroid, None)
     return Candidate(role, refs, tuple(parts), tuple(found), _kind(refs, parts, meshes,
                      urdf_dir), volume, centroid, _diagonal(refs, meshes, urdf_dir))
 
