@@ -53,7 +53,7 @@ def test_piped_output_is_plain_text_that_fits(panda, tmp_path, capsys, monkeypat
     assert max(map(len, lines)) >= width - 2  # the table uses the width it is given
     text = "\n".join(lines)
     assert not _BOX_DRAWING.search(text) and "\x1b" not in text
-    assert "panda_link1" in text and "±79 %" in text
+    assert "panda_link1" in text and re.search(r"±\d+", text)
     assert "of CAD" not in text  # the long form is for --json and explain
 
 

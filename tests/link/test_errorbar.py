@@ -15,7 +15,7 @@ from urdfinertia.link.errorbar import (
 )
 
 CELLS = {("mesh", "visual", 0): 0.2, ("mesh", None, 0): 0.3, (None, None, 0): 0.5,
-         (None, None, 1): 0.6, (None, None, 2): 0.9}
+         (None, None, 1): 0.6, (None, None, 2): 0.9, (None, None, 3): 1.0}
 
 
 def test_offset_bins_follow_the_edges():

@@ -58,8 +58,15 @@ def test_centroid_nearest_the_kept_com_among_the_same_kind():
     assert best is near and why.why == "centroid nearest the kept CoM"
     assert why.offset == pytest.approx(0.01)
     # a far centroid does not hand the choice to a less faithful kind (measured worse)
-    box = _candidate("collision", "primitive", 1e-3, centroid=(0.0, 0, 0))
+    box = _candidate("collision", "primitive", 1e-3, centroid=(0.05, 0, 0))
     assert choose([far, box], 2.0, np.zeros(3))[0] is far
+
+
+def test_a_centroid_on_the_kept_com_says_the_tensor_came_from_that_geometry():
+    on = _candidate("collision", "primitive", 1e-3, centroid=(1e-5, 0, 0))
+    mesh = _candidate("visual", "mesh", 1e-3, centroid=(0.02, 0, 0))
+    best, why = choose([mesh, on], 2.0, np.zeros(3))
+    assert best is on and why.why == "centroid on the kept CoM"
 
 
 def test_a_whole_set_beats_one_with_an_element_dropped():

@@ -85,6 +85,9 @@ def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
     out: dict[Path, None] = {}
     for link in robot.links:
         _, refs = select_geometry(link, options.geometry)
+        if options.geometry == "auto" and options.recompute != "needed":
+            # every link asked for is derived: --geometry auto weighs all its geometries
+            refs = refs + link.collisions + link.visuals
         for ref in refs:
             if isinstance(ref.shape, Mesh):
                 try:

@@ -114,16 +114,19 @@ def _choose(link: Link, options: FixOptions, meshes: MeshSource, urdf_dir: Path,
     else:
         role, refs = select_geometry(link, options.geometry)
         sets = [(role, refs)] if refs else []
-    candidates = [c for role, refs in sets
-                  if (c := evaluate(link, role, refs, meshes, urdf_dir)) is not None]
-    if not candidates:
-        return None
     mass = com = None
     if link.inertial is not None:
         raw = RawInertial.from_inertial(link.inertial)
         if trust_mass and options.mass == "keep" and raw.mass_ok and raw.mass > 0:
             mass = raw.mass
             com = raw.com if raw.com_ok else None
+    # the kind and box need the mesh points: read when there is a choice or a CoM to hold
+    # the geometry against (the policy has read them then already)
+    detail = len(sets) > 1 or com is not None
+    candidates = [c for role, refs in sets
+                  if (c := evaluate(link, role, refs, meshes, urdf_dir, detail)) is not None]
+    if not candidates:
+        return None
     best, chosen = choose(candidates, mass, com if com is None else np.asarray(com))
     lo, hi = PLAUSIBLE_DENSITY
     if plausible_only and chosen.density is not None and not lo <= chosen.density <= hi:

@@ -12,13 +12,15 @@ Each candidate set is integrated at unit density and judged on what the link sti
 1. every element read (a set with an element dropped loses against a whole one);
 2. a plausible implied density (kept mass over volume within
    :data:`~urdfinertia.link.options.PLAUSIBLE_DENSITY`): a volume that no material fills
-   with the kept mass is not the body;
-   With no mass kept, an MJCF body's own geoms (what MuJoCo computes with, materials
-   included) are used;
-3. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
-   (:data:`KINDS`); a mesh is a hull when its volume is within :data:`CONVEX_RATIO` of its
-   convex hull's;
-4. among sets of that kind, the centroid nearest the kept CoM (as a fraction of each
+   with the kept mass is not the body. With no mass kept, an MJCF body's own geoms
+   (what MuJoCo computes with, materials included) are used;
+3. a centroid on the kept CoM (within :data:`CENTROID_MATCH` of the box diagonal): the
+   inertial was computed from that very geometry (a tool's output, or MuJoCo's), so its
+   shape is the one that gave the tensor too;
+4. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
+   (:data:`KINDS`); a mesh is a hull when its volume is at least :data:`CONVEX_RATIO`
+   of its convex hull's;
+5. among sets of that kind, the centroid nearest the kept CoM (as a fraction of each
    set's box diagonal). Measured (``scripts/bench_cad.py``), letting a far centroid hand
    the choice to a less faithful kind made the error worse, at any threshold tried.
 
@@ -45,6 +47,8 @@ if TYPE_CHECKING:
 
 #: Kinds of geometry, least to most faithful to the body.
 KINDS = ("primitive", "hull", "mesh")
+#: A centroid within this fraction of the box diagonal of the kept CoM matches it.
+CENTROID_MATCH = 1e-3
 #: Words for the kinds, as the table and ``explain`` say them.
 KIND_WORDS = {"primitive": "primitive stand-ins", "hull": "convex hull",
               "mesh": "detailed mesh"}
@@ -131,8 +135,12 @@ def usable_parts(link: Link, refs: Sequence[GeometryRef], meshes: MeshSource,
 
 
 def evaluate(link: Link, role: str, refs: tuple[GeometryRef, ...], meshes: MeshSource,
-             urdf_dir: Path) -> Candidate | None:
-    """One candidate set integrated at unit density; None when nothing of it is usable."""
+             urdf_dir: Path, detail: bool = True) -> Candidate | None:
+    """One candidate set integrated at unit density; None when nothing of it is usable.
+
+    ``detail=False`` (nothing to choose and no CoM to hold it against) skips what needs the
+    mesh files' points: the box diagonal (None) and hull detection (a mesh is "mesh").
+    """
     found: list[Problem] = []
     parts = usable_parts(link, refs, meshes, urdf_dir, found)
     signed = [(-p.volume if p.cavity else p.volume) for p in parts]
@@ -142,6 +150,10 @@ def evaluate(link: Link, role: str, refs: tuple[GeometryRef, ...], meshes: MeshS
     centres = [p.pose[:3, :3] @ p.unit.com + p.pose[:3, 3] for p in parts]
     centroid = sum((v * c for v, c in zip(signed, centres, strict=True)),
                    start=np.zeros(3)) / volume
+    if not detail:
+        kind = "primitive" if all(p.method.startswith("closed form") for p in parts) \
+            else "mesh"
+        return Candidate(role, refs, tuple(parts), tuple(found), kind, volume, centroid, None)
     return Candidate(role, refs, tuple(parts), tuple(found), _kind(refs, parts, meshes,
                      urdf_dir), volume, centroid, _diagonal(refs, meshes, urdf_dir))
 
@@ -236,6 +248,10 @@ def choose(candidates: Sequence[Candidate], mass: float | None, com: np.ndarray 
     if fits and len(fits) < len(pool):
         pool = fits
         reasons.append("implied density plausible")
+    on_com = [c for c in pool if (o := offset(c)) is not None and o < CENTROID_MATCH]
+    if on_com and len(on_com) < len(pool):
+        pool = on_com
+        reasons.append("centroid on the kept CoM")
     rank = {k: i for i, k in enumerate(KINDS)}
     pool.sort(key=lambda c: -rank[c.kind])
     best = pool[0]

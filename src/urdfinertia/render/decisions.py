@@ -19,7 +19,7 @@ def link_notes(r: LinkResult, warnings: bool = True) -> list[str]:
         if r.kept and r.derived:
             notes.append(f"kept {', '.join(r.kept)}; derived {', '.join(r.derived)}")
         notes.append(str(r.assembly.mass_source))
-        if r.choice is not None:
+        if r.choice is not None and r.choice.others:  # a choice was made: which and why
             notes.append(f"from {r.choice}")
         if r.error_bar is not None:
             notes.append(str(r.error_bar))
