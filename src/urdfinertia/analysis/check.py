@@ -30,6 +30,7 @@ from urdfinertia.inertia.massprops import MassProperties, combine
 
 # Findings and their rule ids, and the per-link rules, live one layer down, where
 # ``fix``'s policy uses them too.
+from urdfinertia.analysis.realizability import robot_realizability
 from urdfinertia.link.findings import (  # noqa: F401  (re-exported: check's API)
     RULES,
     SEVERITIES,
@@ -118,8 +119,10 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
         if meshes is None:
             meshes = mesh_library(options.package_dirs, options.max_faces)
         links = link_verdicts(robot, options, meshes)
+        realizing = robot_realizability(robot.links, meshes, urdf_dir)
         for r in links:
             findings.extend(r.findings)
+            findings.extend(f for f in realizing if f.link == r.name)
     else:
         for link in robot.links:
             findings.extend(value_findings(link, kin, robot))
