@@ -35,14 +35,17 @@ from urdfinertia.descriptions.model import (
     Sphere,
 )
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.inertia.realizable import SCALE_RTOL, bounding_ellipsoid, ellipsoid_scale
+from urdfinertia.inertia.realizable import bounding_ellipsoid, ellipsoid_scale
 from urdfinertia.inertia.realizable import Ellipsoid as Region
 from urdfinertia.link.bounds import BoundsCache
 from urdfinertia.link.findings import Finding
 
 #: A needed scale above this is a warning: no density inside the geometry gives the
 #: written values (the ellipsoid holds the geometry, so the geometry cannot either).
-SCALE_WARN = 1.0 + SCALE_RTOL
+#: Above 1 the proof is already there; the 5 % leave room for a description's geometry
+#: being a little smaller than the part its CAD inertial came from (Panda's fingers need
+#: 1.01, its third link 1.02).
+SCALE_WARN = 1.05
 #: ... above this an error: the mass would have to lie several of the part's own sizes
 #: away from it (a tensor or CoM for another part, or a unit slip).
 SCALE_ERROR = 3.0
