@@ -34,7 +34,8 @@ def by_link(result):
 def test_fixture_findings():
     found = by_link(urdfinertia.check(FIXTURE))
     housing = [f for f in found["housing"] if f.code == "not-realizable"]
-    assert housing and housing[0].severity == "error" and housing[0].rule.id == "UI210"
+    assert housing and housing[0].severity == "warning" and housing[0].rule.id == "UI210"
+    assert "outside the part by several of its sizes" in housing[0].message
     # the motor passes every other rule and fails this one, by a warning
     motor = found["motor"]
     assert [f.code for f in motor] == ["not-realizable"]
@@ -80,7 +81,7 @@ def test_primitive_points_hold_the_primitive(shape):
 
 
 def test_json_and_sarif_carry_the_rule(tmp_path, capsys):
-    assert main(["check", str(FIXTURE), "--format", "json"]) == 1
+    assert main(["check", str(FIXTURE), "--format", "json", "--strict"]) == 1
     data = json.loads(capsys.readouterr().out)
     codes = {f["code"] for file in data["files"] for f in file["findings"]}
     assert {"not-realizable", "gyration-implausible"} <= codes

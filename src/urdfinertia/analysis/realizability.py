@@ -46,8 +46,10 @@ from urdfinertia.link.findings import Finding
 #: being a little smaller than the part its CAD inertial came from (Panda's fingers need
 #: 1.01, its third link 1.02).
 SCALE_WARN = 1.05
-#: ... above this an error: the mass would have to lie several of the part's own sizes
-#: away from it (a tensor or CoM for another part, or a unit slip).
+#: Above this the mass would have to lie several of the part's own sizes away from it (a
+#: tensor or CoM for another part, or a unit slip): the message says so. Still a warning,
+#: like the other checks against the geometry (the geometry may be a stand-in: a marker,
+#: a simplified hull); ``check --strict`` fails on it.
 SCALE_ERROR = 3.0
 #: A radius of gyration (sqrt(trace / 2m), m) above this on a link without geometry is
 #: implausible: no robot link spreads its mass RMS a metre from its CoM.
@@ -175,11 +177,12 @@ def realizability_findings(link: Link, cache: BoundsCache, urdf_dir: Path,
     axes = ", ".join(f"{2 * a:.3g}" for a in found.ellipsoid.semi_axes)
     if not np.isfinite(found.scale):
         return []  # no density anywhere: the triangle inequality finding says so
-    severity = "error" if found.scale > SCALE_ERROR else "warning"
-    return [Finding(link.name, severity, "not-realizable",
+    far = (": the mass would lie outside the part by several of its sizes"
+           if found.scale > SCALE_ERROR else "")
+    return [Finding(link.name, "warning", "not-realizable",
                     f"no mass inside the geometry gives this inertial: its bounding ellipsoid "
                     f"(axes {axes} m) would have to be {found.scale:.3g}x as large to hold "
-                    "a body with the written CoM and tensor", line)]
+                    f"a body with the written CoM and tensor{far}", line)]
 
 
 def gyration_findings(link: Link) -> list[Finding]:

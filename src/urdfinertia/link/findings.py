@@ -34,7 +34,8 @@ def _rules(*rows: tuple[str, str, str, str, str]) -> dict[str, Rule]:
 #: or renumbered (baselines and code-scanning alerts are keyed on it); add new kinds at the
 #: end of their block. UI1xx: the written values; UI2xx: against the geometry; UI3xx:
 #: the robot as simulators merge it; UI4xx: loading and stepping in the engines; UI5xx:
-#: what the reader read past that other loaders refuse.
+#: what the reader read past that other loaders refuse; UI7xx: the whole robot: masses and
+#: statics.
 RULES: dict[str, Rule] = _rules(
     ("UI101", "missing-inertial", "link", "error", "a moving link has no <inertial>"),
     ("UI102", "mass-not-finite", "inertial", "error", "mass is NaN or infinite"),
@@ -103,6 +104,10 @@ RULES: dict[str, Rule] = _rules(
      "XML that strict parsers refuse (declaration, undeclared prefix, trailing content)"),
     ("UI507", "missing-layer", "robot", "error",
      "a USD sublayer, reference or payload names a layer that cannot be opened"),
+    ("UI701", "joint-cannot-hold", "link", "error",
+     "a joint's effort limit is below the gravity torque it must hold over its range"),
+    ("UI702", "joint-effort-margin", "link", "warning",
+     "a joint's gravity torque is within the margin of its effort limit"),
 )
 
 
