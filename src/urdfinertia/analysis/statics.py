@@ -152,7 +152,7 @@ def robot_statics(robot: Robot, bodies: Mapping[str, Body], *, samples: int = SA
             and parent_joint.get(j.child) is j]
     rng = np.random.default_rng(seed)
     ranges = np.array([_range(j) for j in free]).reshape(-1, 2)
-    cols = [np.zeros(len(free))]
+    cols = [np.clip(0.0, ranges[:, 0], ranges[:, 1])]  # the zero pose, where in range
     if len(free):
         cols += [ranges[:, 0], ranges[:, 1]]
         cols += list(ranges[:, 0] + (ranges[:, 1] - ranges[:, 0]) * rng.random((samples,
