@@ -87,9 +87,8 @@ def check(path: str | Path, *, geometry: bool = True, statics: bool = True,
     ``result.exit_code()`` is the command line's exit code without a baseline.
     """
     from urdfinertia.analysis.check import check_description
-    from urdfinertia.descriptions.formats import read_description
-
     from urdfinertia.analysis.statics import DEFAULT_MARGIN
+    from urdfinertia.descriptions.formats import read_description
 
     opts = make_options(**options)
     robot, _ = read_description(path, lenient=True)

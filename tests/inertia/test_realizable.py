@@ -31,7 +31,8 @@ def box_corners(size):
 def test_pseudo_inertia_is_the_second_moment_of_point_masses():
     pts = RNG.normal(size=(5, 3))
     masses = RNG.uniform(0.5, 2.0, size=5)
-    body = combine([MassProperties(m, p, np.zeros((3, 3))) for m, p in zip(masses, pts)])
+    body = combine([MassProperties(m, p, np.zeros((3, 3)))
+                    for m, p in zip(masses, pts, strict=True)])
     lifted = np.hstack([pts, np.ones((5, 1))])
     expected = (lifted * masses[:, None]).T @ lifted
     np.testing.assert_allclose(pseudo_inertia(body.mass, body.com, body.inertia), expected,

@@ -22,12 +22,6 @@ from pathlib import Path
 
 import numpy as np
 
-from urdfinertia.cache.library import MeshLibrary, mesh_library
-from urdfinertia.descriptions.inertial import RawInertial
-from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
-from urdfinertia.descriptions.model import Robot
-from urdfinertia.inertia.massprops import MassProperties, combine
-
 # Findings and their rule ids, and the per-link rules, live one layer down, where
 # ``fix``'s policy uses them too.
 from urdfinertia.analysis.realizability import robot_realizability
@@ -39,6 +33,11 @@ from urdfinertia.analysis.statics import (
     verdict_bodies,
     written_bodies,
 )
+from urdfinertia.cache.library import MeshLibrary, mesh_library
+from urdfinertia.descriptions.inertial import RawInertial
+from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
+from urdfinertia.descriptions.model import Robot
+from urdfinertia.inertia.massprops import MassProperties, combine
 from urdfinertia.link.findings import (  # noqa: F401  (re-exported: check's API)
     RULES,
     SEVERITIES,

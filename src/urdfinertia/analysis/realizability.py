@@ -35,8 +35,9 @@ from urdfinertia.descriptions.model import (
     Sphere,
 )
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.inertia.realizable import bounding_ellipsoid, ellipsoid_scale
 from urdfinertia.inertia.realizable import Ellipsoid as Region
+from urdfinertia.inertia.realizable import bounding_ellipsoid, ellipsoid_scale
+from urdfinertia.inertia.validity import is_placeholder
 from urdfinertia.link.bounds import BoundsCache
 from urdfinertia.link.findings import Finding
 
@@ -143,7 +144,7 @@ def geometry_points(refs: tuple[GeometryRef, ...], cache: BoundsCache,
 def link_realizability(link: Link, cache: BoundsCache, urdf_dir: Path,
                        ) -> Realizability | None:
     """The test for ``link`` (None: no geometry, or a written inertial that is not a body
-    with positive finite mass, which the value checks report already).
+    with positive finite mass, or a placeholder tensor: the value checks report those).
 
     Raises UrdfInertiaError when a mesh cannot be read.
     """
@@ -153,8 +154,8 @@ def link_realizability(link: Link, cache: BoundsCache, urdf_dir: Path,
     raw = RawInertial.from_inertial(link.inertial)
     if not (raw.mass_ok and raw.com_ok and np.all(np.isfinite(raw.inertia))):
         return None
-    if not np.any(raw.inertia):
-        return None  # a point mass: the value checks report it
+    if not np.any(raw.inertia) or is_placeholder(raw.inertia):
+        return None  # a point mass or a placeholder: the value checks report it
     points = geometry_points(refs, cache, urdf_dir)
     region = bounding_ellipsoid(points)
     return Realizability(link.name, ellipsoid_scale(raw.mass, raw.com, raw.inertia, region),

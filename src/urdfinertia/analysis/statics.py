@@ -266,7 +266,7 @@ def _per_joint(robot: Robot, bodies: Mapping[str, Body], parent_joint: dict[str,
             continue
         frame = poses[j.child]  # the joint frame moved: its origin and axis
         axis = np.asarray(j.axis, dtype=np.float64)
-        axis = axis / max(np.linalg.norm(axis), 1e-300)
+        axis = axis / max(float(np.linalg.norm(axis)), 1e-300)
         axis_w = frame[:, :3, :3] @ axis
         nominal = np.zeros(len(q))
         spread = np.zeros(len(q))

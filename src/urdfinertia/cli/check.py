@@ -26,8 +26,8 @@ from rich.table import Table
 
 from urdfinertia.analysis.baseline import Baseline, write_baseline
 from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
-from urdfinertia.analysis.statics import DEFAULT_MARGIN
 from urdfinertia.analysis.locate import CheckedFile, locate_all
+from urdfinertia.analysis.statics import DEFAULT_MARGIN
 from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.cache.library import mesh_library
 from urdfinertia.cli.options import (

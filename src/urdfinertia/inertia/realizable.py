@@ -137,7 +137,9 @@ def bounding_ellipsoid(points: ArrayLike, tol: float = 1e-2) -> Ellipsoid:
     Khachiyan's algorithm with Todd and Yildirim's updates, stopped when the largest
     weighted radius is within ``tol`` of optimal (the volume is then within
     ``(1 + tol)^2`` of the minimum: 2 % at the default, each semi-axis within about
-    1.5 % of the minimum's; ten times tighter costs about four times the time, measured on the corpus). The result is grown to hold every point exactly, so it always encloses them.
+    1.5 % of the minimum's; ten times tighter costs about four times the time, measured
+    on the corpus). The result is grown to hold every point exactly, so it always
+    encloses them.
     Points spanning less than three dimensions (a flat plate, a segment) are padded by
     ``1e-9`` of their extent in the missing directions, so the ellipsoid exists.
     Raises ``ValueError`` for no points or non-finite ones.
