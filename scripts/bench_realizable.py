@@ -123,11 +123,15 @@ def main(argv: list[str] | None = None) -> int:
     print(f"time: test (ellipsoid + scale) {t_test:.2f} s, reading points {t_points:.2f} s "
           f"(ratio {t_test / max(t_points, 1e-9):.2f})")
     for line in crashes:
-        print(f"check crashed: {line}")
-    worst = sorted((r for r in rows if not r["other_findings"]),
-                   key=lambda r: -r["scale"])[:args.worst]
-    print(f"\nworst {len(worst)} failing links (scale > {SCALE_WARN:g}) that pass every "
-          "other rule:")
+        print(f"check crashed: {line.split('site-packages/')[-1]}")
+    worst, seen = [], set()
+    for r in sorted((r for r in rows if not r["other_findings"]), key=lambda r: -r["scale"]):
+        key = (r["link"], round(r["scale"], 3), r["mass"])  # one per copy-pasted link
+        if key not in seen and len(worst) < args.worst:
+            seen.add(key)
+            worst.append(r)
+    print(f"\nworst {len(worst)} distinct failing links (scale > {SCALE_WARN:g}) that pass "
+          "every other rule (a link copied into several descriptions listed once):")
     for r in worst:
         axes = "x".join(f"{a:.3g}" for a in r["axes"])
         com = ", ".join(f"{c:.3g}" for c in r["com"])

@@ -44,6 +44,9 @@ DEFAULT_MARGIN = 0.2
 DERIVED_BAND = 0.3
 #: random configurations sampled (besides the corners of the ranges and the zero pose)
 SAMPLES = 256
+#: a joint whose sampled load is above this fraction of its effort is refined (swept one
+#: joint at a time from its worst sample); below it, far from any finding, it is not
+REFINE_FROM = 0.5
 #: continuous joints (and revolute ones without limits) are sampled over a full turn
 _TURN = (-np.pi, np.pi)
 _MOVING = ("revolute", "continuous", "prismatic")
@@ -165,7 +168,11 @@ def robot_statics(robot: Robot, bodies: Mapping[str, Body], *, samples: int = SA
         # refine: from each joint's worst sample, sweep every joint over its range once
         grid = np.linspace(0.0, 1.0, 9)
         blocks, owners = [], []
+        efforts = {j.name: j.effort for j in robot.joints}
         for name, (nom, _) in per_joint.items():
+            effort = efforts.get(name)
+            if effort is None or effort <= 0 or np.max(np.abs(nom)) < REFINE_FROM * effort:
+                continue  # passive, or far from its limit: the samples decide
             start = q[int(np.argmax(np.abs(nom)))]
             block = np.repeat(start[None, :], len(free) * len(grid), axis=0)
             for k in range(len(free)):
@@ -173,7 +180,7 @@ def robot_statics(robot: Robot, bodies: Mapping[str, Body], *, samples: int = SA
                     ranges[k, 0] + grid * (ranges[k, 1] - ranges[k, 0]))
             blocks.append(block)
             owners.append(name)
-        extra = np.vstack(blocks)
+        extra = np.vstack(blocks) if blocks else np.zeros((0, len(free)))
         more, _ = _per_joint(robot, bodies, parent_joint, order, index, extra)
         size = len(free) * len(grid)
         for i, name in enumerate(owners):
