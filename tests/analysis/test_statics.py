@@ -48,7 +48,8 @@ def test_two_link_arm_in_closed_form():
 def test_a_range_that_avoids_horizontal_gives_the_range_end():
     """j1 only from 60 to 90 degrees: the worst is at 60 (the range's corner is sampled);
     j2 over +-90 degrees can tilt l2 back to horizontal, adding 1 kg x 0.15 m."""
-    robot = arm(lower=np.pi / 3, upper=np.pi / 2)
+    # effort 6 N m: near the load, so the samples are refined
+    robot = arm(effort=(6.0, 100.0), lower=np.pi / 3, upper=np.pi / 2)
     robot = Robot("arm", robot.links, (robot.joints[0], Joint(
         "j2", "revolute", "l1", "l2", Origin((0.4, 0, 0)), axis=(0, 1, 0), lower=-np.pi / 2,
         upper=np.pi / 2, effort=100.0)))
