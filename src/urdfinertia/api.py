@@ -76,18 +76,25 @@ def make_options(**options: Any) -> FixOptions:
 
 
 @_xacro_options
-def check(path: str | Path, *, geometry: bool = True, **options: Any) -> CheckResult:
+def check(path: str | Path, *, geometry: bool = True, statics: bool = True,
+          effort_margin: float | None = None, **options: Any) -> CheckResult:
     """Lint the description at ``path``: findings and what ``fix`` would do, per link.
 
     ``geometry=False`` checks the written values only (``check --no-geometry``).
+    ``statics=False`` skips the joints' gravity loads (``check --no-statics``);
+    ``effort_margin`` is ``--effort-margin`` (default 0.2); ``result.statics`` holds the
+    total mass, whole CoM and every joint's load.
     ``result.exit_code()`` is the command line's exit code without a baseline.
     """
     from urdfinertia.analysis.check import check_description
+    from urdfinertia.analysis.statics import DEFAULT_MARGIN
     from urdfinertia.descriptions.formats import read_description
 
     opts = make_options(**options)
     robot, _ = read_description(path, lenient=True)
-    return check_description(robot, options=opts, geometry=geometry)
+    margin = DEFAULT_MARGIN if effort_margin is None else effort_margin
+    return check_description(robot, options=opts, geometry=geometry, statics=statics,
+                             effort_margin=margin)
 
 
 @_xacro_options

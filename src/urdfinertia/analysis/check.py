@@ -22,14 +22,22 @@ from pathlib import Path
 
 import numpy as np
 
+# Findings and their rule ids, and the per-link rules, live one layer down, where
+# ``fix``'s policy uses them too.
+from urdfinertia.analysis.realizability import robot_realizability
+from urdfinertia.analysis.statics import (
+    DEFAULT_MARGIN,
+    Statics,
+    robot_statics,
+    statics_findings,
+    verdict_bodies,
+    written_bodies,
+)
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
 from urdfinertia.descriptions.model import Robot
 from urdfinertia.inertia.massprops import MassProperties, combine
-
-# Findings and their rule ids, and the per-link rules, live one layer down, where
-# ``fix``'s policy uses them too.
 from urdfinertia.link.findings import (  # noqa: F401  (re-exported: check's API)
     RULES,
     SEVERITIES,
@@ -65,6 +73,8 @@ class CheckResult:
     robot: Robot
     links: tuple[LinkResult, ...]
     findings: tuple[Finding, ...]
+    #: total mass, whole CoM and per joint the gravity load (None: statics not asked for)
+    statics: Statics | None = None
 
     @property
     def would_recompute(self) -> tuple[str, ...]:
@@ -106,8 +116,14 @@ def check_robot(robot: Robot, *, meshes: MeshLibrary | None = None,
 
 def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
                       options: FixOptions | None = None,
-                      geometry: bool = True) -> CheckResult:
-    """``check`` of a robot already read: findings and every link's verdict."""
+                      geometry: bool = True, statics: bool = True,
+                      effort_margin: float = DEFAULT_MARGIN) -> CheckResult:
+    """``check`` of a robot already read: findings and every link's verdict.
+
+    With ``statics`` (the default) every joint's gravity load over its range is held
+    against its effort limit (:mod:`urdfinertia.analysis.statics`): an error when it
+    exceeds it, a warning within ``effort_margin`` of it.
+    """
     options = options or FixOptions()
     kin = Kinematics(robot)
     urdf_dir = robot.path.parent if robot.path is not None else Path(".")
@@ -118,8 +134,10 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
         if meshes is None:
             meshes = mesh_library(options.package_dirs, options.max_faces)
         links = link_verdicts(robot, options, meshes)
+        realizing = robot_realizability(robot.links, meshes, urdf_dir)
         for r in links:
             findings.extend(r.findings)
+            findings.extend(f for f in realizing if f.link == r.name)
         if options.slips:  # what the author meant, across links: copies and twins
             from urdfinertia.analysis.twins import twin_findings
 
@@ -130,7 +148,11 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
             findings.extend(reference_findings(link, options, urdf_dir))
     for group in kin.groups.values():
         findings.extend(lumped_findings(group, robot))
-    return CheckResult(path, robot, links, tuple(findings))
+    held = None
+    if statics:
+        held = robot_statics(robot, verdict_bodies(links) if geometry else written_bodies(robot))
+        findings.extend(statics_findings(robot, held, effort_margin))
+    return CheckResult(path, robot, links, tuple(findings), held)
 
 
 #: Severity and finding code of each problem the reader read past (what other loaders do

@@ -27,6 +27,7 @@ from rich.table import Table
 from urdfinertia.analysis.baseline import Baseline, write_baseline
 from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
 from urdfinertia.analysis.locate import CheckedFile, locate_all
+from urdfinertia.analysis.statics import DEFAULT_MARGIN
 from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.cache.library import mesh_library
 from urdfinertia.cli.options import (
@@ -73,6 +74,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--skip-unknown-formats", action="store_true",
                    help="skip files no registered format takes by suffix and root element "
                         "(package.xml, launch files): for hooks handed every *.xml")
+    p.add_argument("--no-statics", action="store_true",
+                   help="skip whole-robot statics (each joint's gravity load over its range "
+                        "against its effort limit)")
+    p.add_argument("--effort-margin", type=float, default=DEFAULT_MARGIN, metavar="FRACTION",
+                   help="warn when a joint's gravity load exceeds (1 - FRACTION) of its "
+                        "effort limit (default: %(default)s)")
     add_engine_arguments(p)
     add_geometry_source_arguments(p)
     p.add_argument("--no-slips", action="store_true",
@@ -112,7 +119,9 @@ def run(args: argparse.Namespace) -> int:
             continue
         robot = robot_from_bytes(data, path, lenient=True)
         result = check_description(robot, meshes=meshes, options=options,
-                                   geometry=meshes is not None)
+                                   geometry=meshes is not None,
+                                   statics=not args.no_statics,
+                                   effort_margin=args.effort_margin)
         findings = list(result.findings)
         if engines is not None:
             findings += engines.findings(path, robot, options.package_dirs)

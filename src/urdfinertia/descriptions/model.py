@@ -149,6 +149,14 @@ class Joint:
     child: str
     origin: Origin = field(default_factory=Origin)
     line: int | None = None
+    #: the motion's axis in the joint frame (URDF's default x), for whole-robot statics
+    axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    #: ``<limit lower upper effort>``: m or rad, and N or N m; None when not stated
+    lower: float | None = None
+    upper: float | None = None
+    effort: float | None = None
+    #: ``<mimic joint multiplier offset>``: (joint, multiplier, offset), None when it has none
+    mimic: tuple[str, float, float] | None = None
 
 
 #: Kinds of :class:`Problem`: how the reader went on.

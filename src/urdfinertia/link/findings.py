@@ -34,7 +34,8 @@ def _rules(*rows: tuple[str, str, str, str, str]) -> dict[str, Rule]:
 #: or renumbered (baselines and code-scanning alerts are keyed on it); add new kinds at the
 #: end of their block. UI1xx: the written values; UI2xx: against the geometry; UI3xx:
 #: the robot as simulators merge it; UI4xx: loading and stepping in the engines; UI5xx:
-#: what the reader read past that other loaders refuse; UI6xx: what the author meant.
+#: what the reader read past that other loaders refuse; UI6xx: what the author meant;
+#: UI7xx: the whole robot: masses and statics.
 RULES: dict[str, Rule] = _rules(
     ("UI101", "missing-inertial", "link", "error", "a moving link has no <inertial>"),
     ("UI102", "mass-not-finite", "inertial", "error", "mass is NaN or infinite"),
@@ -72,6 +73,10 @@ RULES: dict[str, Rule] = _rules(
      "tensor size implausible for the mass and geometry"),
     ("UI205", "mesh-unresolved", "link", "error",
      "a mesh reference does not resolve to a file"),
+    ("UI210", "not-realizable", "inertial", "warning",
+     "no mass inside the geometry's bounding ellipsoid gives the written CoM and tensor"),
+    ("UI211", "gyration-implausible", "inertial", "warning",
+     "a link without geometry whose tensor puts its mass over a metre from its CoM"),
     ("UI301", "lumped-mass", "link", "info", "fixed joints merge links into this body"),
     ("UI401", "engine-refused", "robot", "error", "a simulator refuses to load the robot"),
     ("UI402", "engine-nan", "robot", "error", "a passive run in a simulator produced NaN"),
@@ -106,6 +111,11 @@ RULES: dict[str, Rule] = _rules(
      "the inertial equals another link's while their geometries differ (copy-pasted)"),
     ("UI603", "twins-disagree", "inertial", "warning",
      "mirror twins whose inertials disagree beyond the mirror map"),
+    # UI7xx: the whole robot: masses and statics
+    ("UI701", "joint-cannot-hold", "link", "error",
+     "a joint's effort limit is below the gravity torque it must hold over its range"),
+    ("UI702", "joint-effort-margin", "link", "warning",
+     "a joint's gravity torque is within the margin of its effort limit"),
 )
 
 

@@ -20,6 +20,7 @@ import dataclasses
 import math
 import re
 from pathlib import Path
+from typing import Any
 
 from lxml import etree
 
@@ -319,4 +320,33 @@ def _joint(el: etree._Element, path: Path, problems: list[Problem]) -> Joint:
         child=child[0].get("link", "") if child else "",
         origin=origin,
         line=el.sourceline,
+        **_joint_motion(el),
     )
+
+
+def _number(text: str | None) -> float | None:
+    try:
+        value = float(text) if text is not None else None
+    except ValueError:
+        return None
+    return value if value is not None and math.isfinite(value) else None
+
+
+def _joint_motion(el: etree._Element) -> dict[str, Any]:
+    """Axis, limits and mimic of a joint (statics only: an unreadable value is left out)."""
+    out: dict[str, Any] = {}
+    axis = el.find("axis")
+    if axis is not None:
+        parts = [_number(x) for x in (axis.get("xyz") or "").split()]
+        if len(parts) == 3 and all(x is not None for x in parts):
+            out["axis"] = tuple(float(x) for x in parts if x is not None)
+    limit = el.find("limit")
+    if limit is not None:
+        for key in ("lower", "upper", "effort"):
+            out[key] = _number(limit.get(key))
+    mimic = el.find("mimic")
+    if mimic is not None and mimic.get("joint"):
+        multiplier = _number(mimic.get("multiplier"))
+        out["mimic"] = (mimic.get("joint"), 1.0 if multiplier is None else multiplier,
+                        _number(mimic.get("offset")) or 0.0)
+    return out
