@@ -35,7 +35,7 @@ def integrate_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> MeshS
 def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
                      cache: SolidsCache | None = None,
                      timer: StageTimes | None = None,
-                     read: Callable[[Path, int], TriangleMesh] = load_mesh) -> MeshSolids:
+                     read: Callable[[Path, int], TriangleMesh] | None = None) -> MeshSolids:
     """Unscaled solids of one mesh file, from ``cache`` when it holds them (``read``
     reads the file otherwise).
 
@@ -55,7 +55,7 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
         if hit is not None:
             return hit
     with timer.stage("mesh read"):
-        mesh = read(path, max_faces)
+        mesh = (read or load_mesh)(path, max_faces)
     try:
         found: MeshSolids | MeshError = integrate_mesh(mesh, timer)
     except MeshError as exc:
