@@ -190,16 +190,17 @@ def test_every_command_reads_and_fills_the_one_cache(sphere_stl, tmp_path, count
   <collision><geometry><mesh filename="{sphere_stl.name}"/></geometry></collision>
 </link></robot>""")
     monkeypatch.setenv("URDFINERTIA_CACHE_DIR", str(tmp_path / "shared-cache"))
-    main(["check", str(urdf), "-q"])
+    # -j 1: check and report compute in this process, where the reads are counted
+    main(["check", str(urdf), "-q", "-j", "1"])
     assert count_reads  # the first command reads the mesh
     count_reads.clear()
-    main(["check", str(urdf), "-q"])
+    main(["check", str(urdf), "-q", "-j", "1"])
     main(["compare", str(urdf)])
     assert main(["explain", str(urdf), "--link", "ball"]) == 0
     assert count_reads == []  # nothing read again: points and solids came from the cache
-    assert main(["report", str(urdf), "-o", str(tmp_path / "r.html")]) == 0
+    assert main(["report", str(urdf), "-o", str(tmp_path / "r.html"), "-j", "1"]) == 0
     assert len(count_reads) == 1  # the display copy, made once
-    assert main(["report", str(urdf), "-o", str(tmp_path / "r2.html")]) == 0
+    assert main(["report", str(urdf), "-o", str(tmp_path / "r2.html"), "-j", "1"]) == 0
     assert len(count_reads) == 1  # and then read from the cache
     assert (tmp_path / "r.html").read_bytes() == (tmp_path / "r2.html").read_bytes()
 
