@@ -23,6 +23,7 @@ shared, so the load average is printed at the start and the end.
 
 Usage: python scripts/bench_speed.py [--robots DIR] [--against REF] [--robot FILE]
                                      [--robot-only]
+(--robot-only --against REF: the single-robot rows for both versions, in one run)
 """
 
 from __future__ import annotations
@@ -234,7 +235,12 @@ def main() -> int:
         if args.robot_only:
             if args.robot is None:
                 sys.exit("--robot-only needs --robot FILE")
-            robot_rows(code, t, args.robot)
+            print(f"\nrobot: {args.robot} [this checkout]")
+            robot_rows(code, t / "now", args.robot)
+            if args.against:
+                print(f"\nrobot: {args.robot} [{args.against}]")
+                robot_rows(bench.snapshot_ref(args.against, t / "old"), t / "then",
+                           args.robot)
             print(f"\nload average at end {load()}")
             return 0
         rows: list[tuple[str, float, dict]] = []
@@ -319,9 +325,11 @@ def main() -> int:
 
 def robot_rows(code: Path, t: Path, robot: Path) -> None:
     """fix cold and warm, check twice, report cold and after fix, on one robot."""
+    t.mkdir(parents=True, exist_ok=True)
     cache = t / "cache-robot"
-    wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot.urdf"), "-q")
-    print(f"fix cold: {wall:.2f} s ({verdict(wall, ROBOT_COLD_S)})")
+    wall, res = cli(code, cache, "fix", str(robot), "-o", str(t / "robot.urdf"), "-q")
+    print(f"fix cold: {wall:.2f} s ({verdict(wall, ROBOT_COLD_S)}), peak main "
+          f"{res['peak_main_mb']:.0f} MB, whole run {res.get('tree_mb', 0):.0f} MB")
     wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot2.urdf"), "-q")
     print(f"fix warm: {wall:.2f} s")
     check_cache = t / "cache-check"
@@ -335,7 +343,8 @@ def robot_rows(code: Path, t: Path, robot: Path) -> None:
         wall, res = cli(code, where, "report", str(robot), "-o", str(html))
         size = html.stat().st_size / 2**20 if html.exists() else float("nan")
         print(f"report {label}: {wall:.2f} s ({verdict(wall, REPORT_S)}), {size:.2f} MB "
-              f"({verdict(size, REPORT_MB)}), peak {res['peak_main_mb']:.0f} MB")
+              f"({verdict(size, REPORT_MB)}), peak main {res['peak_main_mb']:.0f} MB, "
+              f"whole run {res.get('tree_mb', res['peak_main_mb']):.0f} MB")
 
 
 if __name__ == "__main__":
