@@ -15,6 +15,7 @@ from urdfinertia.errors import MeshError
 from urdfinertia.inertia.polyhedron import used_vertices
 from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
 from urdfinertia.mesh.read.load import TriangleMesh, load_mesh
+from urdfinertia.mesh.repair.graph import first_occurrences
 from urdfinertia.mesh.repair.pipeline import repair_mesh
 from urdfinertia.mesh.solids import MeshSolids, integrate_repaired
 from urdfinertia.timing import StageTimes
@@ -95,10 +96,14 @@ def hull_points(points: np.ndarray) -> np.ndarray:
         return points
     from scipy.spatial import ConvexHull, QhullError
 
+    # a triangle soup (STL, many COLLADA exports) repeats each vertex several times:
+    # Qhull is several times faster on the distinct points, and the hull is the same
+    distinct = first_occurrences(points)
     try:
         # the extreme points of every direction are hull vertices: with no merging of
         # nearly coplanar facets ("Q" options off), none of them is dropped
-        return points[np.sort(ConvexHull(points, qhull_options="Qt").vertices)]
+        hull = ConvexHull(points[distinct], qhull_options="Qt")
+        return points[np.sort(distinct[hull.vertices])]
     except (QhullError, ValueError):
         return points
 
