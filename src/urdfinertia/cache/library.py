@@ -76,7 +76,7 @@ Reducer = Callable[[np.ndarray, np.ndarray, int], tuple[np.ndarray, np.ndarray, 
 
 #: A mesh read for one entry (its hull points, say) is kept for the next (its solids)
 #: while the meshes kept hold at most this many faces in all (about 40 bytes a face).
-STASH_FACES = 1_000_000
+STASH_FACES = 300_000
 
 
 def points_of(mesh: TriangleMesh) -> np.ndarray:
@@ -197,7 +197,8 @@ class MeshLibrary:
         self._points[self._key(Path(path))] = np.asarray(points, dtype=np.float64)
 
     def _read(self, key: Path, max_faces: int) -> TriangleMesh:
-        """The mesh file ``key``, read once while it is in the stash."""
+        """The mesh file ``key``, read once while it is in the stash (kept for a later
+        request: the geometry checks ask for points first, then for solids)."""
         mesh = self._stash.get(key)
         if mesh is None:
             mesh = load_mesh(key, max_faces)
@@ -206,6 +207,12 @@ class MeshLibrary:
             while total > STASH_FACES and self._stash:
                 total -= len(self._stash.pop(next(iter(self._stash))).faces)
         return mesh
+
+    def _take(self, key: Path, max_faces: int) -> TriangleMesh:
+        """The mesh file ``key`` for its solids, the last request: out of the stash, so
+        no other mesh is held while it is repaired."""
+        mesh = self._stash.pop(key, None)
+        return mesh if mesh is not None else load_mesh(key, max_faces)
 
     def known(self, path: Path) -> bool:
         return self._key(Path(path)) in self._memo
@@ -217,7 +224,7 @@ class MeshLibrary:
         if found is None:
             try:
                 found = mesh_file_solids(key, self.max_faces, self.cache, self.timer,
-                                         self._read)
+                                         self._take)
             except Exception as exc:  # noqa: BLE001 - bugs too are repeated like any failure
                 found = exc
             self._memo[key] = found
