@@ -23,6 +23,7 @@ shared, so the load average is printed at the start and the end.
 
 Usage: python scripts/bench_speed.py [--robots DIR] [--against REF] [--robot FILE]
                                      [--robot-only]
+(--robot-only --against REF: the single-robot rows for both versions, in one run)
 """
 
 from __future__ import annotations
@@ -48,6 +49,72 @@ MEMORY_MB = 500.0
 
 # ---------------------------------------------------------------------------- children
 
+class TreeMemory:
+    """Peak resident memory of this process and its descendants (worker processes),
+    sampled every ``interval`` seconds from ``/proc``: each process's own peak and the
+    peak of their sum (the whole run's footprint). Linux only; empty elsewhere."""
+
+    def __init__(self, interval: float = 0.05) -> None:
+        import threading
+
+        self.interval = interval
+        self.per_pid: dict[int, float] = {}
+        #: CPU seconds (user + system) last seen of each process of the tree: workers
+        #: started by a fork server are not this process's children, so getrusage's
+        #: RUSAGE_CHILDREN misses them
+        self.cpu: dict[int, float] = {}
+        self.total = 0.0
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def __enter__(self) -> TreeMemory:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        self._thread.join()
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            self.sample()
+            self._stop.wait(self.interval)
+
+    def sample(self) -> None:
+        me = os.getpid()
+        children: dict[int, list[int]] = {}
+        rss: dict[int, float] = {}
+        try:
+            pids = [int(d) for d in os.listdir("/proc") if d.isdigit()]
+        except OSError:
+            return
+        for pid in pids:
+            try:
+                text = Path(f"/proc/{pid}/status").read_text()
+            except OSError:
+                continue
+            fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
+            children.setdefault(int(fields.get("PPid", "0").strip() or 0), []).append(pid)
+            rss[pid] = int(fields.get("VmRSS", "0 kB").split()[0] or 0) / 1024
+        tree, todo = [], [me]
+        while todo:
+            pid = todo.pop()
+            tree.append(pid)
+            todo.extend(children.get(pid, []))
+        total = 0.0
+        tick = os.sysconf("SC_CLK_TCK")
+        for pid in tree:
+            try:
+                stat = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+                self.cpu[pid] = (int(stat[11]) + int(stat[12])) / tick  # utime, stime
+            except (OSError, IndexError, ValueError):
+                pass
+            mb = rss.get(pid, 0.0)
+            total += mb
+            self.per_pid[pid] = max(self.per_pid.get(pid, 0.0), mb)
+        self.total = max(self.total, total)
+
+
 def child_cli(argv: list[str], cache_dir: Path) -> dict:
     """Run ``urdf-inertia ARGV`` in this process with the mesh cache in ``cache_dir``."""
     import contextlib
@@ -57,43 +124,73 @@ def child_cli(argv: list[str], cache_dir: Path) -> dict:
     from urdfinertia.cli import main
 
     start = time.perf_counter()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+    with TreeMemory() as memory, contextlib.redirect_stdout(io.StringIO()), \
+            contextlib.redirect_stderr(io.StringIO()):
         code = main(argv)
     work = time.perf_counter() - start
     own, kids = bench.peak_mb()
+    workers = sorted((mb for pid, mb in memory.per_pid.items() if pid != os.getpid()),
+                     reverse=True)
     import urdfinertia
 
     return {"work": work, "code": code, "peak_main_mb": own, "peak_worker_mb": kids,
+            "workers_mb": workers, "tree_mb": memory.total,
+            "cpu": cpu_seconds() + sum(c for pid, c in memory.cpu.items()
+                                       if pid != os.getpid()),
             "module": urdfinertia.__file__}
 
 
+def cpu_seconds() -> float:
+    """User + system CPU seconds of this process and its reaped children: less sensitive
+    than wall time to other jobs on a shared machine (workers under a fork server are
+    added from :class:`TreeMemory`'s samples, to within its 50 ms period)."""
+    import resource
+
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+
 def child_meshes(robots: Path) -> dict:
-    """Seconds to read, repair and integrate each distinct mesh ``fix --all`` reads, and
-    which description files use it."""
+    """Seconds to read, repair and integrate each distinct mesh ``fix --all`` reads (by
+    stage), and which description files use it; and the seconds of the hull points
+    the geometry checks read of every checked mesh (collision and visual)."""
     from urdfinertia.batch.inputs import collect_jobs
-    from urdfinertia.batch.tasks import referenced_meshes
-    from urdfinertia.cache.library import integrate_mesh
+    from urdfinertia.batch.tasks import mesh_needs
+    from urdfinertia.cache.library import integrate_mesh, points_of
     from urdfinertia.link.options import FixOptions
     from urdfinertia.mesh.read.load import load_mesh
+    from urdfinertia.timing import StageTimes
 
     options = FixOptions(recompute="all")
     users: dict[Path, list[str]] = {}
+    checked: dict[Path, None] = {}
     for job in collect_jobs([robots], None):
-        for path in referenced_meshes(job.source, options):
+        solids, points = mesh_needs(job.source, options)
+        for path in solids:
             users.setdefault(path, []).append(str(job.source))
+        checked.update(dict.fromkeys(points))
     costs = []
-    for path, files in users.items():
+    for path in dict.fromkeys([*users, *checked]):
         start = time.perf_counter()
         faces = 0
+        times = StageTimes()
         try:
-            mesh = load_mesh(path, options.max_faces)
+            with times.stage("mesh read"):
+                mesh = load_mesh(path, options.max_faces)
             faces = len(mesh.faces)
-            solids = integrate_mesh(mesh)
-            notes = "; ".join(solids.notes)
+            with times.stage("hull points"):
+                points_of(mesh)
+            notes = ""
+            if path in users:
+                solids = integrate_mesh(mesh, times)
+                notes = "; ".join(solids.notes)
         except Exception as exc:  # noqa: BLE001 - a refused mesh is timed too
             notes = f"error: {exc}"
         costs.append({"mesh": str(path), "faces": faces, "seconds":
-                      time.perf_counter() - start, "files": files, "notes": notes[:160]})
+                      time.perf_counter() - start, "files": users.get(path, []),
+                      "integrated": path in users, "stages": dict(times.seconds),
+                      "notes": notes[:160]})
     return {"costs": costs}
 
 
@@ -143,7 +240,7 @@ def main() -> int:
     args = p.parse_args(argv)
     robots = args.robots or bench.example_robot_data()
     if args.child == "baseline":
-        print(json.dumps(bench.child_baseline(robots)))
+        print(json.dumps({**bench.child_baseline(robots), "cpu": cpu_seconds()}))
         return 0
     if args.child == "cli":
         print(json.dumps(child_cli(rest, args.cache_dir)))
@@ -161,7 +258,12 @@ def main() -> int:
         if args.robot_only:
             if args.robot is None:
                 sys.exit("--robot-only needs --robot FILE")
-            robot_rows(code, t, args.robot)
+            print(f"\nrobot: {args.robot} [this checkout]")
+            robot_rows(code, t / "now", args.robot)
+            if args.against:
+                print(f"\nrobot: {args.robot} [{args.against}]")
+                robot_rows(bench.snapshot_ref(args.against, t / "old"), t / "then",
+                           args.robot)
             print(f"\nload average at end {load()}")
             return 0
         rows: list[tuple[str, float, dict]] = []
@@ -182,19 +284,25 @@ def main() -> int:
                 outs[(label, kind)] = out
                 print(f"fix --all {kind} [{label}]: {wall:.1f} s", flush=True)
         base = rows[0][1]
-        print("\n| run | wall s | x naive | target | peak main MB | peak worker MB |")
-        print("|---|---:|---:|---:|---:|---:|")
+        cpu_base = rows[0][2].get("cpu") or float("nan")
+        print("\n| run | wall s | x naive | target | CPU s | x naive (CPU) | peak main MB "
+              "| peak per worker MB | peak of the whole run MB |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
         for name, wall, res in rows:
             kind = "cold" if " cold " in name else "warm" if " warm " in name else None
             target = (verdict(wall / base, TARGETS[kind])
                       if kind and "this checkout" in name else "")
-            print(f"| {name} | {wall:.2f} | {wall / base:.3f} | {target} | "
-                  f"{res['peak_main_mb']:.0f} | {res['peak_worker_mb']:.0f} |")
+            workers = res.get("workers_mb") or []
+            per_worker = " / ".join(f"{mb:.0f}" for mb in workers) or "-"
+            tree = res.get("tree_mb", res["peak_main_mb"])
+            cpu = res.get("cpu", float("nan"))
+            print(f"| {name} | {wall:.2f} | {wall / base:.3f} | {target} | {cpu:.1f} | "
+                  f"{cpu / cpu_base:.3f} | {res['peak_main_mb']:.0f} | {per_worker} | "
+                  f"{tree:.0f} |")
         cold = dict((n, r) for n, _, r in rows)["fix --all cold [this checkout]"]
-        peak = cold["peak_main_mb"] + cold["peak_worker_mb"] * max(
-            1, len(os.sched_getaffinity(0)))
-        print(f"\npeak memory of the cold corpus run (main + workers x largest): {peak:.0f} MB "
-              f"({verdict(peak, MEMORY_MB)})")
+        peak = cold.get("tree_mb", 0.0)
+        print(f"\npeak memory of the cold corpus run, main and workers together (sampled "
+              f"every 50 ms): {peak:.0f} MB ({verdict(peak, MEMORY_MB)})")
         same = tree_bytes(outs[("this checkout", "cold")]) == tree_bytes(
             outs[("this checkout", "warm")])
         print(f"cold and warm outputs identical: {'yes' if same else 'NO'}")
@@ -205,13 +313,31 @@ def main() -> int:
 
         _, res = run_child(["--child", "meshes", "--robots", str(robots)], code)
         costs = sorted(res["costs"], key=lambda c: -c["seconds"])
-        print("\nten slowest meshes (read + repair + integrate, one process, "
-              f"{len(costs)} meshes, {sum(c['seconds'] for c in costs):.1f} s in all):\n")
-        print("| s | faces | mesh | notes |")
-        print("|---:|---:|---|---|")
-        for c in costs[:10]:
-            print(f"| {c['seconds']:.2f} | {c['faces']} | {Path(c['mesh']).name} | "
+        integrated = [c for c in costs if c["integrated"]]
+        print("\nten slowest meshes (read + hull points + repair + integrate, one process, "
+              f"{len(integrated)} integrated meshes and {len(costs) - len(integrated)} "
+              f"checked only, {sum(c['seconds'] for c in costs):.1f} s in all):\n")
+        print("| s | read | hull | repair | union | faces | mesh | notes |")
+        print("|---:|---:|---:|---:|---:|---:|---|---|")
+        for c in integrated[:10]:
+            st = c["stages"]
+            print(f"| {c['seconds']:.2f} | {st.get('mesh read', 0):.2f} | "
+                  f"{st.get('hull points', 0):.2f} | {st.get('repair', 0):.2f} | "
+                  f"{st.get('union', 0):.2f} | {c['faces']} | {Path(c['mesh']).name} | "
                   f"{c['notes']} |")
+        stages: dict[str, float] = {}
+        for c in costs:
+            for k, v in c["stages"].items():
+                stages[k] = stages.get(k, 0.0) + v
+        print("\nwhere the per-mesh work goes, one process, against the naive loop's "
+              f"{base:.2f} s (wall, the same run):\n")
+        print("| stage | s | x naive | the naive loop does it too |")
+        print("|---|---:|---:|---|")
+        also = {"mesh read": "yes (trimesh reads every reference)",
+                "integration": "yes (mass_properties)"}
+        for k in ("mesh read", "hull points", "repair", "union", "integration"):
+            print(f"| {k} | {stages.get(k, 0.0):.2f} | {stages.get(k, 0.0) / base:.3f} | "
+                  f"{also.get(k, 'no')} |")
         per_file: dict[str, float] = {}
         for c in costs:
             for f in set(c["files"]):
@@ -225,23 +351,28 @@ def main() -> int:
 
 def robot_rows(code: Path, t: Path, robot: Path) -> None:
     """fix cold and warm, check twice, report cold and after fix, on one robot."""
+    t.mkdir(parents=True, exist_ok=True)
     cache = t / "cache-robot"
-    wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot.urdf"), "-q")
-    print(f"fix cold: {wall:.2f} s ({verdict(wall, ROBOT_COLD_S)})")
+    wall, res = cli(code, cache, "fix", str(robot), "-o", str(t / "robot.urdf"), "-q")
+    print(f"fix cold: {wall:.2f} s ({verdict(wall, ROBOT_COLD_S)}), CPU "
+          f"{res.get('cpu', float('nan')):.1f} s, peak main "
+          f"{res['peak_main_mb']:.0f} MB, whole run {res.get('tree_mb', 0):.0f} MB")
     wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot2.urdf"), "-q")
     print(f"fix warm: {wall:.2f} s")
     check_cache = t / "cache-check"
-    first, _ = cli(code, check_cache, "check", str(robot), "-q")
+    first, res = cli(code, check_cache, "check", str(robot), "-q")
     second, _ = cli(code, check_cache, "check", str(robot), "-q")
-    print(f"check: first {first:.2f} s (empty cache), second {second:.2f} s "
-          f"({verdict(second, SECOND_CHECK_S)})")
+    print(f"check: first {first:.2f} s (empty cache; CPU {res.get('cpu', float('nan')):.1f} "
+          f"s), second {second:.2f} s ({verdict(second, SECOND_CHECK_S)})")
     for label, where in (("cold", t / "cache-report"), ("after fix", cache),
                          ("again", cache)):
         html = t / f"report-{where.name}.html"
         wall, res = cli(code, where, "report", str(robot), "-o", str(html))
         size = html.stat().st_size / 2**20 if html.exists() else float("nan")
-        print(f"report {label}: {wall:.2f} s ({verdict(wall, REPORT_S)}), {size:.2f} MB "
-              f"({verdict(size, REPORT_MB)}), peak {res['peak_main_mb']:.0f} MB")
+        print(f"report {label}: {wall:.2f} s ({verdict(wall, REPORT_S)}; CPU "
+              f"{res.get('cpu', float('nan')):.1f} s), {size:.2f} MB "
+              f"({verdict(size, REPORT_MB)}), peak main {res['peak_main_mb']:.0f} MB, "
+              f"whole run {res.get('tree_mb', res['peak_main_mb']):.0f} MB")
 
 
 if __name__ == "__main__":

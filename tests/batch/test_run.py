@@ -423,3 +423,47 @@ def test_folders_give_sdf_world_and_mjcf_but_not_other_xml(tmp_path):
     jobs = collect_jobs([tmp_path], tmp_path / "out")
     assert sorted(j.source.name for j in jobs) == ["arm.xml", "m.sdf", "r.urdf", "w.WORLD"]
     assert {j.output.name for j in jobs} == {"arm.xml", "m.sdf", "r.urdf", "w.WORLD"}
+
+
+@pytest.fixture
+def checked_tree(tmp_path) -> Path:
+    """Links with an inertial (so their geometry is checked: hull points of collision and
+    visual meshes) and a visual-only mesh."""
+    root = tmp_path / "checked"
+    root.mkdir()
+    trimesh.creation.box(extents=(0.2, 0.1, 0.05)).export(root / "box.stl")
+    trimesh.creation.icosphere(subdivisions=2, radius=0.05).export(root / "ball.stl")
+    trimesh.creation.icosphere(subdivisions=1, radius=0.08).export(root / "shell.stl")
+    inertial = ('<inertial><mass value="1"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" '
+                'ixy="0" ixz="0" iyz="0"/></inertial>')
+    body = ('<link name="{n}">' + inertial + '<visual><geometry><mesh filename="shell.stl"/>'
+            '</geometry></visual><collision><geometry><mesh filename="{m}"/></geometry>'
+            '</collision></link>\n')
+    for name, mesh in (("one", "box.stl"), ("two", "ball.stl")):
+        (root / f"{name}.urdf").write_text(robot(name, body.format(n="l", m=mesh)))
+    return root
+
+
+def test_workers_read_each_mesh_once_for_its_points_and_solids(checked_tree, tmp_path,
+                                                                monkeypatch):
+    reads: list[str] = []
+    real = meshlib.load_mesh
+    monkeypatch.setattr(meshlib, "load_mesh", lambda p, m: reads.append(p) or real(p, m))
+    monkeypatch.setattr(batch, "open_executor", threads)
+    report = run_batch(collect_jobs([checked_tree], tmp_path / "two"), FixOptions(),
+                       BatchSettings(jobs=2, cache_dir=tmp_path / "c"))
+    assert not report.failed
+    assert sorted(Path(p).name for p in reads) == ["ball.stl", "box.stl", "shell.stl"]
+    # the points went to the mesh cache too: a single-process run that computes every
+    # file (details: no whole-file results) reads no mesh
+    reads.clear()
+    one = run_batch(collect_jobs([checked_tree], tmp_path / "one"), FixOptions(),
+                    BatchSettings(jobs=1, cache_dir=tmp_path / "c", details=True))
+    assert not one.failed and reads == []
+    assert outputs(tmp_path / "one") == outputs(tmp_path / "two")
+
+
+def test_mesh_needs_lists_every_mesh_of_a_checked_link_for_points(checked_tree):
+    solids, points = batch.mesh_needs(checked_tree / "one.urdf", FixOptions())
+    assert [p.name for p in solids] == ["box.stl"]
+    assert sorted(p.name for p in points) == ["box.stl", "shell.stl"]

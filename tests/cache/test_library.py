@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import trimesh
@@ -188,16 +190,17 @@ def test_every_command_reads_and_fills_the_one_cache(sphere_stl, tmp_path, count
   <collision><geometry><mesh filename="{sphere_stl.name}"/></geometry></collision>
 </link></robot>""")
     monkeypatch.setenv("URDFINERTIA_CACHE_DIR", str(tmp_path / "shared-cache"))
-    main(["check", str(urdf), "-q"])
+    # -j 1: check and report compute in this process, where the reads are counted
+    main(["check", str(urdf), "-q", "-j", "1"])
     assert count_reads  # the first command reads the mesh
     count_reads.clear()
-    main(["check", str(urdf), "-q"])
+    main(["check", str(urdf), "-q", "-j", "1"])
     main(["compare", str(urdf)])
     assert main(["explain", str(urdf), "--link", "ball"]) == 0
     assert count_reads == []  # nothing read again: points and solids came from the cache
-    assert main(["report", str(urdf), "-o", str(tmp_path / "r.html")]) == 0
+    assert main(["report", str(urdf), "-o", str(tmp_path / "r.html"), "-j", "1"]) == 0
     assert len(count_reads) == 1  # the display copy, made once
-    assert main(["report", str(urdf), "-o", str(tmp_path / "r2.html")]) == 0
+    assert main(["report", str(urdf), "-o", str(tmp_path / "r2.html"), "-j", "1"]) == 0
     assert len(count_reads) == 1  # and then read from the cache
     assert (tmp_path / "r.html").read_bytes() == (tmp_path / "r2.html").read_bytes()
 
@@ -206,3 +209,34 @@ def test_mesh_library_without_cache(tmp_path):
     assert meshlib.mesh_library(use_cache=False).cache is None
     lib = meshlib.mesh_library(cache_dir=tmp_path / "c")
     assert lib.cache is not None and lib.cache.root == tmp_path / "c"
+
+
+def test_points_then_solids_read_the_file_once(sphere_stl, count_reads):
+    """The geometry checks ask for a mesh's points, then for its solids: one reading."""
+    lib = MeshLibrary()
+    points = lib.points(sphere_stl)
+    solids = lib.solids(sphere_stl)
+    assert len(count_reads) == 1
+    np.testing.assert_array_equal(points, MeshLibrary().points(sphere_stl))
+    assert solids.solids[0].volume == MeshLibrary().solids(sphere_stl).solids[0].volume
+
+
+def test_the_stash_of_read_meshes_is_bounded(sphere_stl, tmp_path, count_reads, monkeypatch):
+    monkeypatch.setattr(meshlib, "STASH_FACES", 1500)  # one 1,280-face sphere at a time
+    other = tmp_path / "other.stl"
+    trimesh.creation.icosphere(3, 0.3).export(other)
+    lib = MeshLibrary()
+    lib.points(sphere_stl)
+    lib.points(other)  # evicts the first
+    lib.solids(other)
+    lib.solids(sphere_stl)
+    assert [Path(p).name for p in count_reads] == ["sphere.stl", "other.stl", "sphere.stl"]
+    assert sum(len(m.faces) for m in lib._stash.values()) <= 1500
+
+
+def test_seeded_points_are_not_computed_again(sphere_stl, count_reads):
+    points = MeshLibrary().points(sphere_stl)
+    lib = MeshLibrary()
+    lib.seed_points(sphere_stl, points)
+    np.testing.assert_array_equal(lib.points(sphere_stl), points)
+    assert len(count_reads) == 1

@@ -106,3 +106,17 @@ def test_cancel_duplicate_faces_parity():
     out, repeats, cancelled = cancel_duplicate_faces(faces)
     np.testing.assert_array_equal(out, [[0, 1, 2], [6, 8, 7]])
     assert (repeats, cancelled) == (2, 1)
+
+
+def test_first_occurrences_keep_the_first_of_each_distinct_row():
+    from urdfinertia.mesh.repair.graph import first_occurrences
+
+    rng = np.random.default_rng(5)
+    base = rng.normal(size=(50, 3))
+    rows = base[rng.integers(0, 50, size=400)]
+    rows[7] = -0.0  # -0.0 and 0.0 are one value
+    rows[9] = 0.0
+    got = first_occurrences(rows)
+    _, want = np.unique(rows + 0.0, axis=0, return_index=True)
+    np.testing.assert_array_equal(got, np.sort(want))
+    assert len(first_occurrences(np.zeros((0, 3)))) == 0

@@ -28,8 +28,8 @@ from urdfinertia.batch.tasks import (
     fix_file_task,
     fix_with_library,
     load_compute_modules,
+    mesh_needs,
     mesh_task,
-    referenced_meshes,
 )
 from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache
 from urdfinertia.errors import MeshError, OutputError, UrdfInertiaError
@@ -37,6 +37,8 @@ from urdfinertia.link.options import FixOptions
 from urdfinertia.timing import StageTimes
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from urdfinertia.cache.library import MeshLibrary
     from urdfinertia.mesh.solids import MeshSolids
 
@@ -110,10 +112,13 @@ class _Run:
         self.progress = progress or (lambda kind, done, total: None)
         self.times = StageTimes()
         self.meshes: dict[Path, MeshSolids | Exception] = {}
+        #: hull points of the meshes the geometry checks read (:meth:`MeshLibrary.points`)
+        self.points: dict[Path, np.ndarray] = {}
         self.keys: dict[Path, str] = {}
         self.futures: dict[cf.Future, tuple[str, object]] = {}
-        self.pending: list[set[Path]] = []
-        self.waiting: dict[Path, list[int]] = {}
+        #: per file, what it waits for: ("solids" or "points", mesh path)
+        self.pending: list[set[tuple[str, Path]]] = []
+        self.waiting: dict[tuple[str, Path], list[int]] = {}
         self.on_ready: Callable[[int], None] = lambda i: None
         self.total_meshes = 0
         self.done_meshes = 0
@@ -131,20 +136,46 @@ class _Run:
         self.meshes[path] = found
         return True
 
-    def store(self, path: Path, outcome: MeshSolids | Exception, faces: int) -> None:
-        self.meshes[path] = outcome
-        if self.cache is not None:
+    def lookup_points(self, path: Path) -> bool:
+        """Fill ``self.points[path]`` from the cache; False when it must be computed."""
+        if self.cache is None:
+            return False
+        with self.times.stage("cache"):
+            key, found = self.cache.lookup_arrays(path, self.options.max_faces, "points")
+        if key is not None:
+            self.keys[path] = key
+        if found is None or isinstance(found, MeshError) or len(found[1]) % 3:
+            return False  # a refusal is the reader's to repeat, in context
+        self.points[path] = found[1].reshape(-1, 3)
+        return True
+
+    def store(self, path: Path, outcome: MeshSolids | Exception | None, faces: int,
+              points: np.ndarray | None) -> None:
+        if outcome is not None:
+            self.meshes[path] = outcome
+        if points is not None and path not in self.points:
+            self.points[path] = points
+            if self.cache is not None:
+                with self.times.stage("cache"):
+                    self.cache.store_arrays(self.keys.get(path), "points", {"faces": faces},
+                                            points)
+        if outcome is not None and self.cache is not None:
             with self.times.stage("cache"):
                 self.cache.store_mesh(self.keys.get(path), path, outcome, faces)
 
     def prepare(self, pool: cf.Executor, needs: Sequence[Sequence[Path]],
-                on_ready: Callable[[int], None]) -> None:
-        """Compute every mesh of ``needs`` once; call ``on_ready(i)`` when file i's are known.
+                on_ready: Callable[[int], None],
+                point_needs: Sequence[Sequence[Path]] = ()) -> None:
+        """Compute every mesh of ``needs`` once, and the hull points of every mesh of
+        ``point_needs`` (from the same reading where both are needed); call
+        ``on_ready(i)`` when file i's solids are known.
 
         ``on_ready`` may submit more work to ``pool``; :meth:`drain` collects it.
         """
         distinct = list(dict.fromkeys(p for paths in needs for p in paths))
         todo = [p for p in distinct if not self.lookup_cache(p)]
+        wanted = dict.fromkeys(p for paths in point_needs for p in paths)
+        missing_points = {p for p in wanted if not self.lookup_points(p)}
         # identical bytes under two names (copied packages) are integrated once
         by_key: dict[str, list[Path]] = {}
         groups: list[list[Path]] = []
@@ -161,35 +192,60 @@ class _Run:
         self.done_meshes = len(distinct) - len(todo)
         self.progress("meshes", self.done_meshes, self.total_meshes)
         for i, paths in enumerate(needs):
-            missing = {p for p in paths if p not in self.meshes}
+            missing = {("solids", p) for p in paths if p not in self.meshes}
+            if i < len(point_needs):
+                missing.update(("points", p) for p in point_needs[i] if p in missing_points)
             self.pending.append(missing)
-            for p in missing:
-                self.waiting.setdefault(p, []).append(i)
+            for item in missing:
+                self.waiting.setdefault(item, []).append(i)
         self.on_ready = on_ready
         # largest first: the long tasks start early and the end of the run stays busy
         groups.sort(key=lambda g: (-_size(g[0]), str(g[0])))
         for group in groups:
             fut = submit(pool, mesh_task, str(group[0]), self.options.max_faces)
             self.futures[fut] = ("mesh", group)
+        only_points = sorted(missing_points.difference(todo), key=lambda p: (-_size(p), str(p)))
+        for p in only_points:
+            fut = submit(pool, mesh_task, str(p), self.options.max_faces, False)
+            self.futures[fut] = ("points", [p])
         for i, missing in enumerate(self.pending):
             if not missing:
                 on_ready(i)
 
     def mesh_done(self, group: list[Path], fut: cf.Future) -> None:
+        points = None
         try:
-            outcome, faces, times = fut.result()
+            outcome, faces, times, points = fut.result()
             self.times.merge(times)
         except Exception as exc:  # noqa: BLE001 - a dead worker fails its meshes only
             outcome, faces = MeshError(f"worker failed: {type(exc).__name__}: {exc}",
                                        file=group[0]), 0
         for p in group:
-            self.store(p, outcome, faces)
+            self.store(p, outcome, faces, points)
             self.done_meshes += 1
-            for i in self.waiting.pop(p, []):
-                self.pending[i].discard(p)
-                if not self.pending[i]:
-                    self.on_ready(i)
+            self._arrived(("solids", p))
+            self._arrived(("points", p))  # or not: the file's task reads it and says why
         self.progress("meshes", self.done_meshes, self.total_meshes)
+
+    def points_done(self, paths: list[Path], fut: cf.Future) -> None:
+        points, faces = None, 0
+        try:
+            _, faces, times, points = fut.result()
+            self.times.merge(times)
+        except Exception:  # noqa: BLE001 - the file's own task reads it and says why
+            pass
+        for p in paths:
+            self.store(p, None, faces, points)
+            self._arrived(("points", p))
+
+    def _arrived(self, item: tuple[str, Path]) -> None:
+        for i in self.waiting.pop(item, []):
+            self.pending[i].discard(item)
+            if not self.pending[i]:
+                self.on_ready(i)
+
+    def point_seeds(self, paths: Sequence[Path]) -> dict[str, np.ndarray]:
+        return {str(p): self.points[p] for p in paths if p in self.points}
 
     def drain(self, on_file: Callable[[object, cf.Future], None]) -> None:
         """Wait for all submitted work, dispatching results as they arrive."""
@@ -199,6 +255,8 @@ class _Run:
                 kind, payload = self.futures.pop(fut)
                 if kind == "mesh":
                     self.mesh_done(payload, fut)  # type: ignore[arg-type]
+                elif kind == "points":
+                    self.points_done(payload, fut)  # type: ignore[arg-type]
                 else:
                     on_file(payload, fut)
 
@@ -225,17 +283,20 @@ def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: Batch
         return library
     run = _Run(options, settings, cache, progress)
     with run.times.stage("xml"):
-        needs = [referenced_meshes(Path(u), options) for u in urdfs]
+        needs, point_needs = zip(*(mesh_needs(Path(u), options) for u in urdfs),
+                                 strict=True) if urdfs else ((), ())
     distinct = dict.fromkeys(p for paths in needs for p in paths)
     # as in _fix_all: no worker processes when there is nothing to compute
     jobs = 1 if all(run.lookup_cache(p) or p not in run.keys for p in distinct) else \
         settings.jobs
     with open_executor(jobs, settings.dask) as pool:
         if pool is not None:
-            run.prepare(pool, needs, lambda i: None)
+            run.prepare(pool, needs, lambda i: None, point_needs)
             run.drain(lambda payload, fut: None)
     for path, outcome in run.meshes.items():
         library.seed(path, outcome)
+    for path, points in run.points.items():
+        library.seed_points(path, points)
     library.timer.merge(run.times)
     return library
 
@@ -332,11 +393,19 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
     run = _Run(options, settings, cache, progress)
     pending = set(todo)
     needs: list[list[Path]] = []
+    point_needs: list[list[Path]] = []
+
+    def read_needs() -> None:
+        with run.times.stage("xml"):
+            for i in range(total):
+                solids, points = mesh_needs(jobs[i].source, options) if i in pending else \
+                    ([], [])
+                needs.append(solids)
+                point_needs.append(points)
+
     jobs_now = settings.jobs
     if jobs_now > 1 and not settings.dask:
-        with run.times.stage("xml"):
-            needs = [referenced_meshes(jobs[i].source, options) if i in pending else []
-                     for i in range(total)]
+        read_needs()
         distinct = dict.fromkeys(p for paths in needs for p in paths)
         # nothing to compute (every mesh cached, or a file no reader can open): starting
         # worker processes would cost more than the files themselves
@@ -353,16 +422,14 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
                                            settings.details))
             return len(library._memo)
         if not needs:
-            with run.times.stage("xml"):
-                needs = [referenced_meshes(jobs[i].source, options) if i in pending else []
-                         for i in range(total)]
+            read_needs()
 
         def ready(i: int) -> None:
             if i not in pending:
                 return  # taken from the whole-file cache
             seeds = {str(p): run.meshes[p] for p in needs[i]}
             fut = submit(pool, fix_file_task, str(jobs[i].source), options, seeds,
-                         settings.details)
+                         settings.details, run.point_seeds(point_needs[i]))
             run.futures[fut] = ("file", i)
 
         def file_done(i: object, fut: cf.Future) -> None:
@@ -374,7 +441,7 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
                                       f"failed: {type(exc).__name__}: {exc}")
             finish(i, outcome)
 
-        run.prepare(pool, needs, ready)
+        run.prepare(pool, needs, ready, point_needs)
         run.drain(file_done)
         times.merge(run.times)
         return run.total_meshes

@@ -20,6 +20,8 @@ from urdfinertia.link.options import FixOptions
 from urdfinertia.timing import StageTimes
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from urdfinertia.cache.library import MeshLibrary
     from urdfinertia.mesh.solids import MeshSolids
 
@@ -73,6 +75,16 @@ def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
 
     Problems are ignored here: the file's own task reports them in context.
     """
+    return mesh_needs(source, options)[0]
+
+
+def mesh_needs(source: Path, options: FixOptions) -> tuple[list[Path], list[Path]]:
+    """``(solids, points)``: the resolved mesh files whose solids the geometry policy
+    integrates for ``source``, and those whose hull points the geometry checks read
+    (every mesh of a link that has an inertial, collision and visual), best effort.
+
+    Problems are ignored here: the file's own task reports them in context.
+    """
     from urdfinertia.descriptions.formats import read_description
     from urdfinertia.descriptions.model import Mesh
     from urdfinertia.descriptions.paths import resolve_mesh_path
@@ -81,13 +93,11 @@ def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
     try:
         robot, _ = read_description(source)
     except UrdfInertiaError:
-        return []
-    out: dict[Path, None] = {}
-    for link in robot.links:
-        _, refs = select_geometry(link, options.geometry)
-        if options.geometry == "auto" and options.recompute != "needed":
-            # every link asked for is derived: --geometry auto weighs all its geometries
-            refs = refs + link.collisions + link.visuals
+        return [], []
+    solids: dict[Path, None] = {}
+    points: dict[Path, None] = {}
+
+    def add(refs: tuple, into: dict[Path, None]) -> None:
         for ref in refs:
             if isinstance(ref.shape, Mesh):
                 try:
@@ -95,30 +105,47 @@ def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
                                              options.package_dirs)
                 except UrdfInertiaError:
                     continue
-                out[path.resolve()] = None
-    return list(out)
+                into[path.resolve()] = None
+
+    for link in robot.links:
+        refs = select_geometry(link, options.geometry)[1]
+        if options.geometry == "auto" and options.recompute != "needed":
+            # every link asked for is derived: --geometry auto weighs all its geometries
+            refs = refs + link.collisions + link.visuals
+        add(refs, solids)
+        if link.inertial is not None:
+            add(link.collisions + link.visuals, points)
+    return list(solids), list(points)
 
 
 # ---------------------------------------------------------------------------- work units
 
-def mesh_task(path: str, max_faces: int) -> tuple[MeshSolids | Exception, int, StageTimes]:
-    """Read and integrate one mesh file: (solids or the error, face count, stage times).
+def mesh_task(path: str, max_faces: int, solids: bool = True,
+              ) -> tuple[MeshSolids | Exception | None, int, StageTimes, np.ndarray | None]:
+    """Read one mesh file and integrate it (unless ``solids`` is False): (solids or the
+    error, face count, stage times, its hull points or None when it cannot be read).
 
-    The error is returned, not raised, so that each file using the mesh repeats it exactly
-    as a single-process run would.
+    The points (:meth:`MeshLibrary.points`) come from the same reading, so no process
+    reads the file again for the geometry checks. The error is returned, not raised, so
+    that each file using the mesh repeats it exactly as a single-process run would.
     """
     from urdfinertia.cache import library as meshlib
 
     load_compute_modules()
     times = StageTimes()
     faces = 0
+    points = None
     try:
         with times.stage("mesh read"):
             mesh = meshlib.load_mesh(path, max_faces)
         faces = len(mesh.faces)
-        return meshlib.integrate_mesh(mesh, times), faces, times
+        with times.stage("assemble"):
+            points = meshlib.points_of(mesh)
+        if not solids:
+            return None, faces, times, points
+        return meshlib.integrate_mesh(mesh, times), faces, times, points
     except Exception as exc:  # noqa: BLE001 - reported per file by fix_with_library
-        return exc, faces, times
+        return exc, faces, times, points
 
 
 def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
@@ -181,12 +208,16 @@ def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
 
 def fix_file_task(source: str, options: FixOptions,
                   seeds: Mapping[str, MeshSolids | Exception],
-                  details: bool = False) -> FileOutcome:
-    """The per-file unit of work run by a worker: ``seeds`` are its meshes' results."""
+                  details: bool = False,
+                  points: Mapping[str, np.ndarray] | None = None) -> FileOutcome:
+    """The per-file unit of work run by a worker: ``seeds`` are its meshes' results,
+    ``points`` their hull points."""
     from urdfinertia.cache.library import MeshLibrary
 
     load_compute_modules()
     meshes = MeshLibrary(options.package_dirs, options.max_faces)
     for path, outcome in seeds.items():
         meshes.seed(Path(path), outcome)
+    for path, found in (points or {}).items():
+        meshes.seed_points(Path(path), found)
     return fix_with_library(Path(source), options, meshes, details)

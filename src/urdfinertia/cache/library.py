@@ -12,8 +12,10 @@ import numpy as np
 from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache, cacheable
 from urdfinertia.descriptions.paths import RealPaths, resolve_mesh_path
 from urdfinertia.errors import MeshError
+from urdfinertia.inertia.polyhedron import used_vertices
 from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
 from urdfinertia.mesh.read.load import TriangleMesh, load_mesh
+from urdfinertia.mesh.repair.graph import first_occurrences
 from urdfinertia.mesh.repair.pipeline import repair_mesh
 from urdfinertia.mesh.solids import MeshSolids, integrate_repaired
 from urdfinertia.timing import StageTimes
@@ -33,8 +35,10 @@ def integrate_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> MeshS
 
 def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
                      cache: SolidsCache | None = None,
-                     timer: StageTimes | None = None) -> MeshSolids:
-    """Unscaled solids of one mesh file, from ``cache`` when it holds them.
+                     timer: StageTimes | None = None,
+                     read: Callable[[Path, int], TriangleMesh] | None = None) -> MeshSolids:
+    """Unscaled solids of one mesh file, from ``cache`` when it holds them (``read``
+    reads the file otherwise).
 
     Raises
     ------
@@ -52,7 +56,7 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
         if hit is not None:
             return hit
     with timer.stage("mesh read"):
-        mesh = load_mesh(path, max_faces)
+        mesh = (read or load_mesh)(path, max_faces)
     try:
         found: MeshSolids | MeshError = integrate_mesh(mesh, timer)
     except MeshError as exc:
@@ -70,8 +74,18 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
 Reducer = Callable[[np.ndarray, np.ndarray, int], tuple[np.ndarray, np.ndarray, str]]
 
 
+#: A mesh read for one entry (its hull points, say) is kept for the next (its solids)
+#: while the meshes kept hold at most this many faces in all (about 40 bytes a face).
+STASH_FACES = 300_000
+
+
+def points_of(mesh: TriangleMesh) -> np.ndarray:
+    """The :meth:`MeshLibrary.points` of ``mesh``: its used vertices' hull vertices."""
+    return hull_points(mesh.vertices[used_vertices(len(mesh.vertices), mesh.faces)])
+
+
 def _points_entry(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
-    return {}, hull_points(mesh.vertices[np.unique(mesh.faces.reshape(-1))])
+    return {}, points_of(mesh)
 
 
 def hull_points(points: np.ndarray) -> np.ndarray:
@@ -82,10 +96,14 @@ def hull_points(points: np.ndarray) -> np.ndarray:
         return points
     from scipy.spatial import ConvexHull, QhullError
 
+    # a triangle soup (STL, many COLLADA exports) repeats each vertex several times:
+    # Qhull is several times faster on the distinct points, and the hull is the same
+    distinct = first_occurrences(points)
     try:
         # the extreme points of every direction are hull vertices: with no merging of
         # nearly coplanar facets ("Q" options off), none of them is dropped
-        return points[np.sort(ConvexHull(points, qhull_options="Qt").vertices)]
+        hull = ConvexHull(points[distinct], qhull_options="Qt")
+        return points[np.sort(distinct[hull.vertices])]
     except (QhullError, ValueError):
         return points
 
@@ -128,6 +146,9 @@ class MeshLibrary:
         self._records: dict[tuple[str, Path], tuple[str, str, str]] = {}
         self._real_path = RealPaths()
         self._keys: dict[Path, Path] = {}
+        #: meshes read lately, by key (:data:`STASH_FACES`): the geometry checks ask for
+        #: a mesh's points and then for its solids, which must not read the file twice
+        self._stash: dict[Path, TriangleMesh] = {}
         #: When a list, every :meth:`resolve` appends (uri, urdf_dir, path), both resolved
         #: (path "" when the URI does not resolve): what a file's result depends on
         #: (:mod:`urdfinertia.batch.file_cache`).
@@ -171,6 +192,28 @@ class MeshLibrary:
         """Record a result computed elsewhere (another process) for the file at ``path``."""
         self._memo[self._key(Path(path))] = outcome
 
+    def seed_points(self, path: Path, points: np.ndarray) -> None:
+        """Record the :meth:`points` of the file at ``path`` computed elsewhere."""
+        self._points[self._key(Path(path))] = np.asarray(points, dtype=np.float64)
+
+    def _read(self, key: Path, max_faces: int) -> TriangleMesh:
+        """The mesh file ``key``, read once while it is in the stash (kept for a later
+        request: the geometry checks ask for points first, then for solids)."""
+        mesh = self._stash.get(key)
+        if mesh is None:
+            mesh = load_mesh(key, max_faces)
+            self._stash[key] = mesh
+            total = sum(len(m.faces) for m in self._stash.values())
+            while total > STASH_FACES and self._stash:
+                total -= len(self._stash.pop(next(iter(self._stash))).faces)
+        return mesh
+
+    def _take(self, key: Path, max_faces: int) -> TriangleMesh:
+        """The mesh file ``key`` for its solids, the last request: out of the stash, so
+        no other mesh is held while it is repaired."""
+        mesh = self._stash.pop(key, None)
+        return mesh if mesh is not None else load_mesh(key, max_faces)
+
     def known(self, path: Path) -> bool:
         return self._key(Path(path)) in self._memo
 
@@ -180,7 +223,8 @@ class MeshLibrary:
         found = self._memo.get(key)
         if found is None:
             try:
-                found = mesh_file_solids(key, self.max_faces, self.cache, self.timer)
+                found = mesh_file_solids(key, self.max_faces, self.cache, self.timer,
+                                         self._take)
             except Exception as exc:  # noqa: BLE001 - bugs too are repeated like any failure
                 found = exc
             self._memo[key] = found
@@ -259,7 +303,7 @@ class MeshLibrary:
                 header, numbers = hit
                 return header, numbers, int(header["faces"])
         with self.timer.stage("mesh read"):
-            mesh = load_mesh(key, self.max_faces)
+            mesh = self._read(key, self.max_faces)
         header, numbers = make(mesh)
         header = {**header, "faces": len(mesh.faces)}
         if self.cache is not None:

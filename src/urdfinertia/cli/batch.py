@@ -148,14 +148,17 @@ def stderr_console() -> Console:
     return output_console(stderr=True)
 
 
-def single_file_library(args: argparse.Namespace, options: FixOptions) -> MeshLibrary:
-    """The mesh library for a one-file run (meshes in parallel with --jobs/--dask)."""
+def single_file_library(args: argparse.Namespace, options: FixOptions,
+                        urdfs: list[Path] | None = None) -> MeshLibrary:
+    """The mesh library for a one-file run, or a run over ``urdfs`` (default
+    ``args.urdf``), with the meshes computed in parallel with --jobs/--dask."""
     from urdfinertia.cache.library import mesh_library
 
     settings = settings_from_args(args)
     if settings.jobs > 1 or settings.dask:
         with ProgressBar(getattr(args, "quiet", False)) as bar:
-            return prepared_library([args.urdf], options, settings, settings.open_cache(), bar)
+            return prepared_library(urdfs if urdfs is not None else [args.urdf], options,
+                                    settings, settings.open_cache(), bar)
     return mesh_library(options.package_dirs, options.max_faces, use_cache=settings.use_cache,
                         cache_dir=settings.cache_dir, cache_max_bytes=settings.cache_max_bytes)
 

@@ -29,7 +29,7 @@ from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
 from urdfinertia.analysis.locate import CheckedFile, locate_all
 from urdfinertia.analysis.statics import DEFAULT_MARGIN
 from urdfinertia.atomic import atomic_write_bytes
-from urdfinertia.cache.library import mesh_library
+from urdfinertia.cli.batch import add_batch_arguments, finish_single, single_file_library
 from urdfinertia.cli.options import (
     add_engine_arguments,
     add_geometry_source_arguments,
@@ -86,6 +86,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="do not search flagged links for a one-edit slip (plan as fix "
                         "--no-slips)")
     p.add_argument("-q", "--quiet", action="store_true", help="print only the summary line")
+    add_batch_arguments(p)
 
 
 def exit_code(findings: list[Finding], strict: bool, unverified: bool = False) -> int:
@@ -107,7 +108,8 @@ def unverified_unknown(cf: CheckedFile) -> bool:
 def run(args: argparse.Namespace) -> int:
     options = FixOptions(geometry=args.geometry, package_dirs=dict(args.package_dir),
                          max_faces=args.max_faces, slips=not args.no_slips)
-    meshes = None if args.no_geometry else mesh_library(options.package_dirs, options.max_faces)
+    # the meshes in parallel with -j (default: the cores), through the persistent cache
+    meshes = None if args.no_geometry else single_file_library(args, options, list(args.urdf))
     baseline = (Baseline.load(args.baseline) if args.baseline is not None
                 else Baseline.empty(Path.cwd()))
     engines = engine_request(args)
@@ -145,6 +147,8 @@ def run(args: argparse.Namespace) -> int:
     if args.sarif is not None:
         atomic_write_bytes(args.sarif, json.dumps(sarif, indent=2).encode())
     print_report(args, checked, doc, sarif, plans)
+    if meshes is not None:
+        finish_single(args, meshes)
     return code
 
 

@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from urdfinertia.atomic import atomic_write_bytes
+from urdfinertia.cli.batch import add_batch_arguments, finish_single, single_file_library
 from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args, positive_int
 from urdfinertia.render.report import build_report
 from urdfinertia.render.scene import DEFAULT_VIEW_FACES, VIEW_MODES
@@ -23,11 +24,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--view-faces", type=positive_int, default=DEFAULT_VIEW_FACES, metavar="N",
                    help="face budget of the 3-D view; meshes are decimated to share it "
                         f"(display only, default {DEFAULT_VIEW_FACES})")
+    add_batch_arguments(p)
 
 
 def run(args: argparse.Namespace) -> int:
     options = options_from_args(args)
-    page = build_report(args.urdf, options, view=args.view, face_budget=args.view_faces)
+    meshes = single_file_library(args, options)  # the meshes in parallel with -j
+    page = build_report(args.urdf, options, view=args.view, face_budget=args.view_faces,
+                        meshes=meshes)
+    finish_single(args, meshes)
     data = page.encode("utf-8")
     atomic_write_bytes(args.output, data)
     print(f"wrote {args.output} ({len(data) / 1e6:.1f} MB)", file=sys.stderr)

@@ -20,7 +20,7 @@ import numpy as np
 from urdfinertia import __version__
 from urdfinertia.analysis.check import Finding, check_description
 from urdfinertia.analysis.compare import LinkComparison, compare_with_geometry, summary
-from urdfinertia.cache.library import mesh_library
+from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.fix import fix_robot
@@ -83,16 +83,20 @@ class ReportData:
 
 
 def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
-            face_budget: int = DEFAULT_VIEW_FACES) -> ReportData:
+            face_budget: int = DEFAULT_VIEW_FACES,
+            meshes: MeshLibrary | None = None) -> ReportData:
     """Run fix, compare and check on ``path`` and build the 3-D scene.
 
     The links' verdicts are ``fix``'s (the same objects ``check`` and ``compare`` render):
     the recomputed values shown are what ``fix`` writes, the findings ``check``'s.
     The file is read leniently (non-finite inertial values are kept) so that a broken
-    inertial shows up as invalid in the report instead of stopping it.
+    inertial shows up as invalid in the report instead of stopping it. ``meshes``
+    (default :func:`~urdfinertia.cache.library.mesh_library`) may hold results computed
+    by worker processes.
     """
     robot, data = read_description(path, lenient=True)
-    meshes = mesh_library(options.package_dirs, options.max_faces)
+    if meshes is None:
+        meshes = mesh_library(options.package_dirs, options.max_faces)
     checked = check_description(robot, meshes=meshes, options=options)
     fix = FixResult(robot.path or Path(path), robot, checked.links, data, data)
     geometry = fix_robot(robot, data, every_link(options), meshes)  # compare's side B
@@ -514,6 +518,8 @@ def render_html(data: ReportData) -> str:
 
 
 def build_report(path: str | Path, options: FixOptions, *, view: str = "visual",
-                 face_budget: int = DEFAULT_VIEW_FACES) -> str:
-    """The report of ``path`` as an HTML string."""
-    return render_html(collect(path, options, view=view, face_budget=face_budget))
+                 face_budget: int = DEFAULT_VIEW_FACES,
+                 meshes: MeshLibrary | None = None) -> str:
+    """The report of ``path`` as an HTML string (``meshes``: see :func:`collect`)."""
+    return render_html(collect(path, options, view=view, face_budget=face_budget,
+                               meshes=meshes))

@@ -43,6 +43,36 @@ def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 _MIX = np.array([0xBF58476D1CE4E5B9, 0x94D049BB133111EB], dtype=np.uint64)
 
 
+def first_occurrences(rows: np.ndarray) -> np.ndarray:
+    """Ascending indices of the first occurrence of each distinct float row (exact;
+    ``-0.0`` and ``0.0`` are one value): one sort of a 64-bit hash, checked row by row
+    (a collision falls back to the lexicographic sort)."""
+    rows = np.asarray(rows, dtype=np.float64)
+    if len(rows) == 0:
+        return np.zeros(0, dtype=np.int64)
+    columns = np.ascontiguousarray((rows + 0.0).T).view(np.uint64)  # -0.0 + 0.0 is 0.0
+    key = np.zeros(len(rows), dtype=np.uint64)
+    for column in columns:  # as _unique_float_rows
+        key ^= column
+        key ^= key >> np.uint64(30)
+        key *= _MIX[0]
+        key ^= key >> np.uint64(27)
+        key *= _MIX[1]
+        key ^= key >> np.uint64(31)
+    order = np.argsort(key, kind="stable")
+    ordered = key[order]
+    new = np.empty(len(key), dtype=bool)
+    new[0] = True
+    np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
+    group = np.cumsum(new) - 1
+    first = order[new]  # stable sort: the smallest index of each key comes first
+    for column in columns:
+        if not np.array_equal(column[order], column[first][group]):
+            _, first = np.unique(rows + 0.0, axis=0, return_index=True)  # a collision
+            break
+    return np.sort(first)
+
+
 def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """:func:`unique_rows` of float rows by hashing their bits; None on a hash collision.
 

@@ -476,14 +476,20 @@ def _triangle_cost(points: np.ndarray, rim: np.ndarray, i: np.ndarray, k: np.nda
     degenerate = norm <= 1e-12 * area_scale
     cost = AREA_WEIGHT * 0.5 * norm / area_scale
 
-    def angle(edge_start: np.ndarray) -> np.ndarray:
-        cos = np.sum(unit * rim[:, edge_start], axis=-1)
-        return np.where(degenerate, np.pi, np.arccos(np.clip(cos, -1.0, 1.0)))
+    def angle(on: np.ndarray, edge_start: np.ndarray) -> np.ndarray:
+        """The rim angle of the triangles ``on`` (a mask over ``i``'s shape) along the
+        boundary edge starting at ``edge_start``, 0 elsewhere: only the O(s^2)
+        triangles on a boundary edge are evaluated, not all O(s^3) candidates (adding
+        the zeros is exact, so the costs are those of evaluating every one)."""
+        out = np.zeros(cost.shape)
+        cos = np.sum(unit[:, on] * rim[:, edge_start[on]], axis=-1)
+        out[:, on] = np.where(degenerate[:, on], np.pi, np.arccos(np.clip(cos, -1.0, 1.0)))
+        return out
 
-    cost = cost + np.where(k == i + 1, angle(i), 0.0) + np.where(j == k + 1, angle(k), 0.0)
+    cost = cost + angle(k == i + 1, i) + angle(j == k + 1, k)
     closing = (i == 0) & (j == s - 1)  # the polygon's own closing edge (s-1 -> 0)
     if closing.any():
-        cost = cost + np.where(closing, angle(np.full_like(j, s - 1)), 0.0)
+        cost = cost + angle(closing, np.full_like(j, s - 1))
     return cost
 
 
