@@ -236,3 +236,21 @@ def test_probe_points_match_one_group_at_a_time(rng):
     got = _probe_points(tri, bounds)
     for i in range(4):
         np.testing.assert_array_equal(got[i], probe_point(tri[bounds[i]:bounds[i + 1]]))
+
+
+def test_bodies_enclosing_nothing_after_a_union_are_dropped_not_divided_by():
+    """pybullet's samurai monastery: a united body with zero volume crashed the stated
+    error (a division by its volume); it is dropped with a note, the rest kept."""
+    from urdfinertia.mesh.repair.pipeline import RepairedBody, drop_empty
+
+    box = trimesh.creation.box(extents=[1, 1, 1])
+    solid = RepairedBody(np.asarray(box.vertices), np.asarray(box.faces), "exact", None)
+    # the same surface twice, once turned: a shell and its cavity, nothing between them
+    v = np.vstack([box.vertices, box.vertices])
+    f = np.vstack([box.faces, box.faces[:, ::-1] + len(box.vertices)])
+    hollow = RepairedBody(v, f, "exact", None)
+    notes: list[str] = []
+    assert drop_empty([solid, hollow], notes) == [solid]
+    assert notes == ["ignored 1 bodies enclosing no volume after the union"]
+    with pytest.raises(MeshError, match="no volume"):
+        drop_empty([hollow], [])

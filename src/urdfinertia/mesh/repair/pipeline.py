@@ -224,10 +224,24 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str], timer: 
     bodies, union_note = _unite(shells, groups, timer)
     if union_note:
         notes.append(union_note)
+    bodies = drop_empty(bodies, notes)
     if len(bodies) > 1:
         notes.append(f"{len(bodies)} bodies")
     bodies = [_with_origin(b, origin, stitch_uncertainty) for b in bodies]
     return RepairedMesh(tuple(bodies), tuple(notes))
+
+
+def drop_empty(bodies: list[RepairedBody], notes: list[str]) -> list[RepairedBody]:
+    """``bodies`` without those enclosing no volume (a union can leave one: pybullet's
+    samurai monastery), noted; :class:`MeshError` when none is left."""
+    kept = [b for b in bodies if _volume(b.vertices, b.faces) != 0]
+    if len(kept) < len(bodies):
+        notes.append(f"ignored {len(bodies) - len(kept)} bodies enclosing no volume after "
+                     "the union")
+        if not kept:
+            raise MeshError("mesh encloses no volume once its shells are united",
+                            code="no-volume")
+    return kept
 
 
 def _with_origin(body: RepairedBody, origin: str, stitch_uncertainty: float) -> RepairedBody:
