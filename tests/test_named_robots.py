@@ -88,7 +88,11 @@ def test_ur5_library_check_gives_the_cli_findings(tmp_path, capsys):
            json.loads(js.read_text())["files"][0]["findings"]]
     lib = [(f.link, f.code, f.message) for f in urdfinertia.check(path).findings]
     assert lib == cli
-    assert sum(f.severity == "warning" for f in urdfinertia.check(path).findings) == 6
+    codes = [f.code for f in urdfinertia.check(path).findings if f.severity == "warning"]
+    # the three wrist links: CoM outside, tensor too large, and so not realizable inside
+    assert sorted(set(codes)) == ["com-outside-geometry", "inertia-vs-geometry",
+                                  "not-realizable"]
+    assert len(codes) == 9
 
 
 @needs_erd
@@ -100,5 +104,7 @@ def test_check_engines_exits_0_on_stock_robots(rel, capsys):
 
     if not all(installed(e) for e in ("mujoco", "pinocchio", "pybullet")):
         pytest.skip("an engine is not installed")
-    assert main(["check", "-q", "--engines", "all", str(ROBOTS / rel)]) == 0
+    # the engines' verdict alone: statics judges the declared efforts (TALOS's torso and
+    # shoulders cannot hold every pose of their range), not what the engines do
+    assert main(["check", "-q", "--no-statics", "--engines", "all", str(ROBOTS / rel)]) == 0
     assert "engine-runaway" not in capsys.readouterr().out
