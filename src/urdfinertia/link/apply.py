@@ -27,7 +27,7 @@ from urdfinertia.link.options import FixOptions
 from urdfinertia.link.parts import MeshSource
 from urdfinertia.link.policy import Decision
 from urdfinertia.link.repair_only import repair_link
-from urdfinertia.link.results import FixResult, LinkResult, Status
+from urdfinertia.link.results import Action, FixResult, LinkResult, Status
 
 VALUES = ("mass", "com", "tensor")
 #: Below this radius of gyration (m) a written tensor holds no information to keep.
@@ -48,6 +48,11 @@ def apply_decision(link: Link, decision: Decision, options: FixOptions, meshes: 
     verified: the decision's unreadable geometry and every element dropped computing it.
     """
     r = _apply(link, decision, options, meshes, urdf_dir, problems)
+    if r.status == Status.LEFT and decision.plausible_only and _invalid(link):
+        # no other geometry is the body either: an invalid inertial still gets the
+        # minimal repair (nothing fix leaves or writes is invalid)
+        decision = replace(decision, action=Action.REPAIR, plausible_only=False)
+        r = _apply(link, decision, options, meshes, urdf_dir, problems)
     if link.read_only is not None and r.changed:
         # the new values cannot be written where the inertial lives: say so, change nothing
         r = LinkResult(link.name, Status.LEFT, r.geometry, None, link.inertial,
@@ -59,6 +64,13 @@ def apply_decision(link: Link, decision: Decision, options: FixOptions, meshes: 
     unverified = tuple(dict.fromkeys(decision.unverified + dropped))
     return replace(r, action=decision.action, why=decision.why, findings=decision.findings,
                    unverified=unverified)
+
+
+def _invalid(link: Link) -> bool:
+    """The written inertial is one a simulator refuses (see :mod:`inertia.validity`)."""
+    if link.inertial is None:
+        return False
+    return not RawInertial.from_inertial(link.inertial).diagnosis().valid
 
 
 def _apply(link: Link, decision: Decision, options: FixOptions, meshes: MeshSource,
