@@ -17,7 +17,8 @@ import difflib
 import math
 import re
 import tomllib
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -45,7 +46,8 @@ if TYPE_CHECKING:
 
 PRIMITIVES = ("box", "cylinder", "sphere", "capsule", "mesh")
 REFERENCES = ("collision", "visual")
-_TOP_KEYS = ("links", "materials")
+_TOP_KEYS = ("links", "materials", "total_mass", "subtree")
+_SUBTREE_KEYS = ("mass",)
 _LINK_KEYS = ("mass", "elements")
 _ELEMENT_KEYS = ("xyz", "rpy", "density", "material", "parts")
 _PART_KEYS = (*PRIMITIVES, *REFERENCES, "xyz", "rpy", "density", "material", "mass", "cavity")
@@ -193,6 +195,15 @@ class Spec:
 
     path: Path
     links: tuple[LinkSpec, ...]
+    #: ``total_mass``: what the whole robot weighs, kg (:mod:`urdfinertia.link.total_mass`)
+    total_mass: float | None = None
+    #: ``[subtree.NAME] mass``: link NAME and the links below it weigh this much, kg
+    subtree_masses: Mapping[str, float] = field(default_factory=dict)
+
+    @property
+    def has_targets(self) -> bool:
+        """The spec says what the robot or a subtree of it weighs."""
+        return self.total_mass is not None or bool(self.subtree_masses)
 
     def link(self, name: str) -> LinkSpec | None:
         for link in self.links:
@@ -210,6 +221,12 @@ class Spec:
                 raise SpecError(f"{ls.key}: the URDF '{robot.name}' has no link "
                                 f"'{ls.name}'{hint}", file=self.path)
             ls.check_references(robot.link(ls.name))
+        for name in self.subtree_masses:
+            if name not in names:
+                close = difflib.get_close_matches(name, names, n=3)
+                hint = f" (did you mean {', '.join(close)}?)" if close else ""
+                raise SpecError(f"subtree.{_q(name)}: the URDF '{robot.name}' has no link "
+                                f"'{name}'{hint}", file=self.path)
 
 
 # --- reading --------------------------------------------------------------------------
@@ -299,9 +316,21 @@ class _Reader:
             self.materials[material_key(name)] = self.number(value, f"materials.{name}",
                                                              "kg/m^3")
         links = self.table(data.get("links", {}), "links", None)
-        if not links:
-            raise self.fail("links", "the spec names no links")
-        return Spec(self.path, tuple(self.link(n, v, f"links.{_q(n)}") for n, v in links.items()))
+        total = self.number(data["total_mass"], "total_mass", "kg") \
+            if "total_mass" in data else None
+        subtrees = {name: self.subtree(value, f"subtree.{_q(name)}") for name, value
+                    in self.table(data.get("subtree", {}), "subtree", None).items()}
+        if not links and total is None and not subtrees:
+            raise self.fail("links", "the spec names no links and no target mass "
+                            "(total_mass, [subtree.NAME] mass)")
+        return Spec(self.path, tuple(self.link(n, v, f"links.{_q(n)}")
+                                     for n, v in links.items()), total, subtrees)
+
+    def subtree(self, value: Any, key: str) -> float:
+        table = self.table(value, key, _SUBTREE_KEYS)
+        if "mass" not in table:
+            raise self.fail(f"{key}.mass", "missing (a subtree target needs its mass, kg)")
+        return self.number(table["mass"], f"{key}.mass", "kg")
 
     def link(self, name: str, value: Any, key: str) -> LinkSpec:
         table = self.table(value, key, _LINK_KEYS)
