@@ -176,3 +176,34 @@ def test_explain_agrees_with_fix() -> None:
     one = link_verdict(robot, "upper", options)
     assert one.after.mass == pytest.approx(fix_file(ARM, options).link("upper").after.mass,
                                            rel=RTOL)
+
+
+def test_cli_refuses_a_total_for_many_robots(tmp_path: Path, capsys) -> None:
+    assert main(["fix", str(ARM), str(ARM), "-o", str(tmp_path / "out"),
+                 "--total-mass", "3"]) == 2
+    assert "--total-mass takes a single description" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_spec_link_with_a_point_scales_whole(tmp_path: Path) -> None:
+    """A spec link derived from a box and a point: both parts scale by the one factor."""
+    spec = parse_spec("""
+total_mass = 3.1
+[links.upper.elements.body.parts.shell]
+collision = 0
+[links.upper.elements.body.parts.motor]
+point = { xyz = [0, 0, 0.1], mass = 1.0 }
+""", tmp_path / "spec.toml")
+    plain = fix_file(ARM, FixOptions(spec=parse_spec(
+        "[links.upper.elements.body.parts.shell]\ncollision = 0\n"
+        "[links.upper.elements.body.parts.motor]\npoint = { xyz = [0, 0, 0.1], mass = 1.0 }\n",
+        tmp_path / "plain.toml")))
+    result = fix_file(ARM, FixOptions(spec=spec))
+    # kept 2.1 kg; derived upper (4 kg box + 1 kg point) and hand (1 kg) -> 1.0 kg: x1/6
+    k = 1.0 / 6.0
+    old, new = plain.link("upper"), result.link("upper")
+    assert new.after.mass == pytest.approx(5.0 * k, rel=RTOL)
+    np.testing.assert_allclose(new.after.inertia, k * old.after.inertia, rtol=1e-12)
+    np.testing.assert_allclose(new.after.com, old.after.com, rtol=1e-12)
+    assert [p.mass_properties.mass for p in new.assembly.parts] == pytest.approx(
+        [4.0 * k, 1.0 * k], rel=RTOL)

@@ -104,6 +104,8 @@ def run(args: argparse.Namespace) -> int:
             raise UrdfInertiaError("--write-back takes a single xacro file")
         if engine_request(args) is not None:
             raise UrdfInertiaError("--engines takes a single URDF file")
+        if options.total_mass is not None:  # a datasheet's figure is one robot's
+            raise UrdfInertiaError("--total-mass takes a single description")
         return run_many(args, options)
     else:
         meshes = single_file_library(args, options)
