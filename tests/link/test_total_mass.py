@@ -207,3 +207,13 @@ point = { xyz = [0, 0, 0.1], mass = 1.0 }
     np.testing.assert_allclose(new.after.com, old.after.com, rtol=1e-12)
     assert [p.mass_properties.mass for p in new.assembly.parts] == pytest.approx(
         [4.0 * k, 1.0 * k], rel=RTOL)
+
+
+@pytest.mark.parametrize("argv", [["--total-mass", "4.6"],
+                                  ["--total-mass", "3.55", "--scale-kept"]])
+def test_fix_of_the_fixed_file_changes_nothing(argv: list[str], tmp_path: Path) -> None:
+    """A target already met is no refusal: the fixed file's masses are kept, not scaled."""
+    once, twice = tmp_path / "once.urdf", tmp_path / "twice.urdf"
+    assert main(["fix", str(ARM), "-o", str(once), "-q", *argv]) == 0
+    assert main(["fix", str(once), "-o", str(twice), "-q", *argv]) == 0
+    assert twice.read_bytes() == once.read_bytes()

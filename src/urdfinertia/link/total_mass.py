@@ -28,6 +28,9 @@ if TYPE_CHECKING:
 
 
 _VALUES = ("mass", "com", "tensor")  # the order verdicts name them in
+#: A target met within this relative difference is left alone: the written masses of a
+#: fixed file sum to the target only up to the round-off of their shortest decimal forms.
+MET_RTOL = 1e-9
 
 
 class MassTargetError(UrdfInertiaError):
@@ -62,6 +65,8 @@ class TargetOutcome:
 
     def __str__(self) -> str:
         what = "total mass" if self.name is None else f"subtree '{self.name}' mass"
+        if not self.scaled:
+            return f"{what} target {self.target:.6g} kg: met already ({self.after:.6g} kg)"
         return (f"{what} target {self.target:.6g} kg: before {self.before:.6g} kg, "
                 f"after {self.after:.6g} kg ({len(self.scaled)} link(s) scaled "
                 f"x{self.factor:.6g})")
@@ -147,6 +152,11 @@ def meet_targets(robot: Robot, results: Sequence[LinkResult], options: FixOption
         fixed = sum(mass[n] for n in members if n not in scaled)
         unscaled = free + fixed
         where = "the robot" if t.name is None else f"subtree '{t.name}'"
+        if abs(unscaled - t.mass) <= MET_RTOL * t.mass:  # met already (a fixed file again)
+            settled.update(members)
+            outcomes.append(TargetOutcome(t.name, sum(_written(by_name[n]) for n in members),
+                                          unscaled, t.mass, unscaled, 1.0, ()))
+            continue
         if not free > 0:
             hint = "" if options.scale_kept else " (--scale-kept scales kept masses too)"
             raise MassTargetError(f"target mass {t.mass:.6g} kg for {where}: no derived "
@@ -157,8 +167,6 @@ def meet_targets(robot: Robot, results: Sequence[LinkResult], options: FixOption
                 f"target mass {t.mass:.6g} kg for {where}: the {kind} masses alone weigh "
                 f"{fixed:.6g} kg, at or above the target (nothing written)", file=robot.path)
         k = (t.mass - fixed) / free
-        if abs(k - 1.0) < 1e-12:  # met already: a fixed file reads back unchanged
-            k = 1.0
         for n in scaled:
             mass[n] *= k
             factor[n] *= k
@@ -182,8 +190,10 @@ def _scaled(r: LinkResult, k: float) -> LinkResult:
             p.mass_properties.mass * k), density=p.density * k) if p.mass_properties.mass
             else p for p in a.parts)
         total = a.total.with_mass(a.total.mass * k)
-        source = a.mass_source if a.mass_source.total is None else \
-            MassSource(a.mass_source.kind, total.mass)
+        kind, value = a.mass_source.kind, a.mass_source.value
+        # what the mass now comes from: the scaled total, or the scaled density
+        source = a.mass_source if value is None else MassSource(
+            kind, total.mass if a.mass_source.total is not None else value * k)
         derived = {*r.derived, "mass", "tensor"}
         return dataclasses.replace(r, assembly=Assembly(total, parts, source),
                                    kept=tuple(v for v in r.kept if v not in derived),
