@@ -103,7 +103,9 @@ def fix(path: str | Path, **options: Any) -> FixResult:
 
     ``result.output`` holds the patched document, ``result.links`` the verdicts.
     ``slips=False`` derives a flagged inertial from its geometry even where one edit of the
-    written values undoes a slip (``fix --no-slips``).
+    written values undoes a slip (``fix --no-slips``). ``total_mass=KG`` scales the derived
+    masses so that the robot weighs KG (``scale_kept=True``: every mass); ``result.targets``
+    says before, target and after (``fix --total-mass``, ``--scale-kept``).
     """
     from urdfinertia.link.fix import fix_file
 

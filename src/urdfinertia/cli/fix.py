@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from urdfinertia.atomic import atomic_write_bytes
@@ -66,6 +68,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--keep-auto", action="store_true",
                    help="SDFormat: leave <inertial auto=\"true\"> for the simulator to compute "
                         "(default: write explicit values and drop the auto attribute)")
+    p.add_argument("--total-mass", type=_kilograms, metavar="KG",
+                   help="the robot weighs KG (a datasheet's figure): the masses fix derives "
+                        "are scaled to meet it, kept masses stay (exit 2, nothing written, "
+                        "when the kept masses alone reach it)")
+    p.add_argument("--scale-kept", action="store_true",
+                   help="with --total-mass (or a spec's target masses): scale every mass, "
+                        "kept ones too, tensors with them")
     add_batch_arguments(p)
     from urdfinertia.cli import writeback
 
@@ -74,7 +83,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    options = options_from_args(args)
+    options = replace(options_from_args(args), total_mass=getattr(args, "total_mass", None),
+                      scale_kept=getattr(args, "scale_kept", False))
+    if options.scale_kept and options.total_mass is None and (
+            options.spec is None or not options.spec.has_targets):
+        raise UrdfInertiaError("--scale-kept needs a target: --total-mass KG, or total_mass "
+                               "or [subtree.NAME] mass in the spec")
     if _to_terminal(args):
         raise UrdfInertiaError(
             "not printing the fixed document on the terminal: write it with -o FILE (or "
@@ -90,6 +104,8 @@ def run(args: argparse.Namespace) -> int:
             raise UrdfInertiaError("--write-back takes a single xacro file")
         if engine_request(args) is not None:
             raise UrdfInertiaError("--engines takes a single URDF file")
+        if options.total_mass is not None:  # a datasheet's figure is one robot's
+            raise UrdfInertiaError("--total-mass takes a single description")
         return run_many(args, options)
     else:
         meshes = single_file_library(args, options)
@@ -150,6 +166,16 @@ def run(args: argparse.Namespace) -> int:
         print(f"urdf-inertia: {len(left)} of {len(result.links)} links left as they were "
               "(exit 1)", file=sys.stderr)
     return max(fix_exit_code(len(left)), engine_regressions(args, result, options))
+
+
+def _kilograms(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive number of kg, got {text!r}")
+    return value
 
 
 def _to_terminal(args: argparse.Namespace) -> bool:

@@ -183,8 +183,12 @@ class MassChange:
     def warn(self) -> bool:
         return abs(self.relative) > MASS_CHANGE_WARN
 
+    def text(self) -> str:
+        """Before and after, without the warning."""
+        return f"total mass {self.before:.6g} kg -> {self.after:.6g} kg"
+
     def __str__(self) -> str:
-        text = f"total mass {self.before:.6g} kg -> {self.after:.6g} kg"
+        text = self.text()
         if self.warn:
             text += (f" ({100 * self.relative:+.1f} %: more than "
                      f"{100 * MASS_CHANGE_WARN:g} %, check the links given mass)")

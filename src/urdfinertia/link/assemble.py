@@ -91,7 +91,8 @@ def assemble(parts: Sequence[Part], source: MassSource) -> Assembly:
     results: list[PartResult] = []
     for p in parts:
         if p.mass is not None:
-            mass, rho = p.mass, p.mass / p.volume
+            # a point mass has no volume: no density (0 in the results)
+            mass, rho = p.mass, p.mass / p.volume if p.volume else 0.0
         else:
             rho = p.density if p.density is not None else free_density
             mass = rho * p.volume

@@ -22,6 +22,7 @@ from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.link.compute import compute_link, problem_code  # noqa: F401  (re-exported)
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.link.total_mass import TargetOutcome, mass_targets, meet_targets
 
 if TYPE_CHECKING:
     from urdfinertia.cache.library import MeshLibrary
@@ -34,8 +35,14 @@ def link_verdicts(robot: Robot, options: FixOptions,
     ``report`` and the Python API render.
 
     The plan (:func:`urdfinertia.link.policy.plan_robot`: findings and decision) carried
-    out link by link (:func:`urdfinertia.link.apply.apply_decision`); nothing is written.
+    out link by link (:func:`urdfinertia.link.apply.apply_decision`), then scaled to the
+    target masses asked for (:mod:`urdfinertia.link.total_mass`); nothing is written.
     """
+    return _verdicts(robot, options, meshes)[0]
+
+
+def _verdicts(robot: Robot, options: FixOptions, meshes: MeshLibrary | None,
+              ) -> tuple[tuple[LinkResult, ...], tuple[TargetOutcome, ...]]:
     from urdfinertia.cache.library import mesh_library
     from urdfinertia.link.apply import apply_decision
     from urdfinertia.link.policy import plan_robot
@@ -58,7 +65,7 @@ def link_verdicts(robot: Robot, options: FixOptions,
                                           tuple(by_link.get(link.name, ()))))
         except UrdfInertiaError as exc:
             raise exc.with_context(file=path, link=link.name) from None
-    return tuple(results)
+    return meet_targets(robot, results, options)
 
 
 def link_verdict(robot: Robot, name: str, options: FixOptions,
@@ -70,6 +77,8 @@ def link_verdict(robot: Robot, name: str, options: FixOptions,
     from urdfinertia.link.bounds import BoundsCache
     from urdfinertia.link.policy import decide_link
 
+    if mass_targets(robot, options):  # a target weighs every link together
+        return next(r for r in link_verdicts(robot, options, meshes) if r.name == name)
     path = robot.path or Path("robot.urdf")
     if meshes is None:
         meshes = mesh_library(options.package_dirs, options.max_faces)
@@ -91,7 +100,7 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
     from urdfinertia.descriptions.formats import format_of
 
     path = robot.path or Path("robot.urdf")
-    results = link_verdicts(robot, options, meshes)
+    results, targets = _verdicts(robot, options, meshes)
     if options.strict:
         refusal = FixResult(path, robot, results, data, data).strict_refusal()
         if refusal is not None:
@@ -105,7 +114,7 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
         output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path) from None
-    return FixResult(path, robot, results, data, output)
+    return FixResult(path, robot, results, data, output, targets)
 
 
 def fix_file(path: str | Path, options: FixOptions | None = None,

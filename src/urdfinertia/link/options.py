@@ -41,6 +41,8 @@ class FixOptions:
         as it was makes :func:`~urdfinertia.link.fix.fix_robot` raise (``--strict``).
     recompute : which links are recomputed (:data:`RECOMPUTE_MODES`); ``links`` names them
         for "links". Links named in ``spec`` are always recomputed.
+    total_mass : kg the robot weighs: derived masses are scaled to meet it, kept ones too
+        with ``scale_kept`` (``--total-mass``, ``--scale-kept``).
     """
 
     geometry: str = "auto"
@@ -57,6 +59,10 @@ class FixOptions:
     #: undo a clear one-edit slip of a flagged inertial (:mod:`urdfinertia.link.slips`)
     #: instead of deriving it from the geometry (``--no-slips``: False)
     slips: bool = True
+    #: the robot's total mass, kg: the derived masses are scaled to meet it
+    #: (:mod:`urdfinertia.link.total_mass`); ``scale_kept`` scales every mass
+    total_mass: float | None = None
+    scale_kept: bool = False
 
     def __post_init__(self) -> None:
         if self.geometry not in GEOMETRY_MODES:
@@ -69,6 +75,9 @@ class FixOptions:
             raise ValueError('links are named with recompute="links", and only then')
         if not (math.isfinite(self.density) and self.density > 0):
             raise ValueError("density must be positive")
+        if self.total_mass is not None and not (math.isfinite(self.total_mass)
+                                                and self.total_mass > 0):
+            raise ValueError("total_mass must be a positive number of kg")
 
 
 def select_geometry(link: Link, mode: str) -> tuple[str, tuple[GeometryRef, ...]]:

@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     from urdfinertia.link.geometry_choice import GeometryChoice
     from urdfinertia.link.save import SaveReport
     from urdfinertia.link.slips import SlipProposal
+    from urdfinertia.link.total_mass import TargetOutcome
 
 
 class Status(StrEnum):
@@ -168,6 +169,8 @@ class FixResult:
     links: tuple[LinkResult, ...]
     original: bytes
     output: bytes
+    #: the target masses met (:mod:`urdfinertia.link.total_mass`), innermost first
+    targets: tuple[TargetOutcome, ...] = ()
 
     @property
     def changed(self) -> bool:

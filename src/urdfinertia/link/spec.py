@@ -17,7 +17,8 @@ import difflib
 import math
 import re
 import tomllib
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -36,6 +37,7 @@ from urdfinertia.descriptions.model import (
     Sphere,
 )
 from urdfinertia.errors import MeshError, SpecError
+from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.mass import MassShareError, MassSource, link_mass_source, share_mass
 from urdfinertia.link.materials import MATERIALS, material_density, material_key
 from urdfinertia.link.parts import MeshSource, Part, shape_solids
@@ -45,10 +47,14 @@ if TYPE_CHECKING:
 
 PRIMITIVES = ("box", "cylinder", "sphere", "capsule", "mesh")
 REFERENCES = ("collision", "visual")
-_TOP_KEYS = ("links", "materials")
+POINT = "point"  # a point mass: a motor or battery whose size does not matter
+_POINT_KEYS = ("xyz", "mass")
+_TOP_KEYS = ("links", "materials", "total_mass", "subtree")
+_SUBTREE_KEYS = ("mass",)
 _LINK_KEYS = ("mass", "elements")
 _ELEMENT_KEYS = ("xyz", "rpy", "density", "material", "parts")
-_PART_KEYS = (*PRIMITIVES, *REFERENCES, "xyz", "rpy", "density", "material", "mass", "cavity")
+_PART_KEYS = (*PRIMITIVES, *REFERENCES, POINT, "xyz", "rpy", "density", "material", "mass",
+              "cavity")
 _SHAPE_KEYS = {"box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",),
                "capsule": ("radius", "length"), "mesh": ("filename", "scale")}
 
@@ -77,12 +83,27 @@ class GeometrySelector:
 
 
 @dataclass(frozen=True)
+class PointMass:
+    """A part that is a point mass (``point = { xyz = [...], mass = ... }``): its position
+    is the part's origin in the element frame, its mass the part's."""
+
+
+@dataclass(frozen=True, eq=False)
+class PointPart(Part):
+    """A point mass in a link: no volume, no tensor of its own about its CoM; in the link
+    frame it contributes the parallel-axis term ``m (|r|^2 E - r r^T)`` (eq. 43)."""
+
+    def in_link(self, mass: float) -> MassProperties:
+        return MassProperties(mass, self.pose[:3, 3], np.zeros((3, 3)))
+
+
+@dataclass(frozen=True)
 class PartSpec:
     """One part as written in the spec; ``origin`` is its frame in the element frame."""
 
     name: str
     key: str
-    source: Shape | GeometrySelector
+    source: Shape | GeometrySelector | PointMass
     origin: Origin
     density: float | None  # kg/m^3, from ``density`` or ``material``
     mass: float | None  # kg
@@ -141,6 +162,10 @@ class LinkSpec:
     def _part(self, p: PartSpec, element: ElementSpec, element_pose: np.ndarray, link: Link,
               meshes: MeshSource, urdf_dir: Path) -> list[Part]:
         label = f"{element.name}/{p.name}"
+        if isinstance(p.source, PointMass):
+            return [PointPart(name=label, element=element.name, unit=MassProperties.zero(),
+                              pose=element_pose @ p.origin.matrix(), method="point mass",
+                              mass=p.mass, provenance="point mass")]
         if isinstance(p.source, GeometrySelector):
             ref = p.source.find(link, f"{p.key}.{p.source.role}", self.path)
             bodies = shape_solids(ref.shape, meshes, urdf_dir)
@@ -193,6 +218,15 @@ class Spec:
 
     path: Path
     links: tuple[LinkSpec, ...]
+    #: ``total_mass``: what the whole robot weighs, kg (:mod:`urdfinertia.link.total_mass`)
+    total_mass: float | None = None
+    #: ``[subtree.NAME] mass``: link NAME and the links below it weigh this much, kg
+    subtree_masses: Mapping[str, float] = field(default_factory=dict)
+
+    @property
+    def has_targets(self) -> bool:
+        """The spec says what the robot or a subtree of it weighs."""
+        return self.total_mass is not None or bool(self.subtree_masses)
 
     def link(self, name: str) -> LinkSpec | None:
         for link in self.links:
@@ -210,6 +244,12 @@ class Spec:
                 raise SpecError(f"{ls.key}: the URDF '{robot.name}' has no link "
                                 f"'{ls.name}'{hint}", file=self.path)
             ls.check_references(robot.link(ls.name))
+        for name in self.subtree_masses:
+            if name not in names:
+                close = difflib.get_close_matches(name, names, n=3)
+                hint = f" (did you mean {', '.join(close)}?)" if close else ""
+                raise SpecError(f"subtree.{_q(name)}: the URDF '{robot.name}' has no link "
+                                f"'{name}'{hint}", file=self.path)
 
 
 # --- reading --------------------------------------------------------------------------
@@ -299,9 +339,21 @@ class _Reader:
             self.materials[material_key(name)] = self.number(value, f"materials.{name}",
                                                              "kg/m^3")
         links = self.table(data.get("links", {}), "links", None)
-        if not links:
-            raise self.fail("links", "the spec names no links")
-        return Spec(self.path, tuple(self.link(n, v, f"links.{_q(n)}") for n, v in links.items()))
+        total = self.number(data["total_mass"], "total_mass", "kg") \
+            if "total_mass" in data else None
+        subtrees = {name: self.subtree(value, f"subtree.{_q(name)}") for name, value
+                    in self.table(data.get("subtree", {}), "subtree", None).items()}
+        if not links and total is None and not subtrees:
+            raise self.fail("links", "the spec names no links and no target mass "
+                            "(total_mass, [subtree.NAME] mass)")
+        return Spec(self.path, tuple(self.link(n, v, f"links.{_q(n)}")
+                                     for n, v in links.items()), total, subtrees)
+
+    def subtree(self, value: Any, key: str) -> float:
+        table = self.table(value, key, _SUBTREE_KEYS)
+        if "mass" not in table:
+            raise self.fail(f"{key}.mass", "missing (a subtree target needs its mass, kg)")
+        return self.number(table["mass"], f"{key}.mass", "kg")
 
     def link(self, name: str, value: Any, key: str) -> LinkSpec:
         table = self.table(value, key, _LINK_KEYS)
@@ -324,13 +376,16 @@ class _Reader:
 
     def part(self, name: str, value: Any, key: str, default_density: float | None) -> PartSpec:
         table = self.table(value, key, _PART_KEYS)
+        if POINT in table:
+            return self.point(name, table, key)
         given = [k for k in (*PRIMITIVES, *REFERENCES) if k in table]
         if len(given) != 1:
             if not given and "mass" in table:
                 raise self.fail(f"{key}.mass", "a known mass needs a volume: give the part a "
-                                f"shape ({', '.join(PRIMITIVES + REFERENCES)})")
+                                f"shape ({', '.join(PRIMITIVES + REFERENCES)}), or make it "
+                                "a point = { xyz = [...], mass = KG }")
             raise self.fail(key, f"give exactly one of {', '.join(PRIMITIVES + REFERENCES)}"
-                            f" (got {', '.join(given) or 'none'})")
+                            f" or {POINT} (got {', '.join(given) or 'none'})")
         kind = given[0]
         source = self.source(kind, table[kind], f"{key}.{kind}")
         if kind in REFERENCES and ("xyz" in table or "rpy" in table):
@@ -346,6 +401,19 @@ class _Reader:
         if not isinstance(cavity, bool):
             raise self.fail(f"{key}.cavity", f"must be true or false, got {cavity!r}")
         return PartSpec(name, key, source, self.origin(table, key), density, mass, cavity)
+
+    def point(self, name: str, table: dict[str, Any], key: str) -> PartSpec:
+        others = [k for k in table if k != POINT]
+        if others:
+            raise self.fail(f"{key}.{others[0]}", "a point part is given by its point table "
+                            "alone: point = { xyz = [x, y, z], mass = KG }")
+        point = self.table(table[POINT], f"{key}.{POINT}", _POINT_KEYS)
+        if "mass" not in point:
+            raise self.fail(f"{key}.{POINT}.mass", "missing (a point needs its mass, kg)")
+        mass = self.number(point["mass"], f"{key}.{POINT}.mass", "kg")
+        xyz = self.vector(point.get("xyz", [0, 0, 0]), f"{key}.{POINT}.xyz")
+        return PartSpec(name, key, PointMass(), Origin(xyz, (0.0, 0.0, 0.0)),  # type: ignore
+                        None, mass, False)
 
     def source(self, kind: str, value: Any, key: str) -> Shape | GeometrySelector:
         if kind in REFERENCES:

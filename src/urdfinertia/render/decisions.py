@@ -42,11 +42,15 @@ def decision_dict(r: LinkResult) -> dict[str, object]:
 def print_mass_summary(result: FixResult, console: Console, quiet: bool = False) -> None:
     """The robot's total mass before and after; with ``quiet`` only when it warns."""
     change = mass_change(result)
-    if quiet and not change.warn:
+    if quiet and not change.warn and not result.targets:
         return
-    style = "bold yellow" if change.warn else ""
-    console.print(f"[{style}]{'warning: ' if change.warn else ''}{change}[/]" if style
-                  else str(change), highlight=False)
+    for target in result.targets:  # asked for: the change is no surprise
+        console.print(str(target), highlight=False)
+    warn = change.warn and not result.targets
+    if quiet and not warn:
+        return
+    style = "bold yellow" if warn else ""
+    console.print(f"[{style}]warning: {change}[/]" if warn else change.text(), highlight=False)
 
 
 def _worth_listing(r: LinkResult) -> bool:

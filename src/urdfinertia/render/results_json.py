@@ -81,6 +81,9 @@ def fix_result_dict(result: FixResult) -> dict[str, Any]:
         "document_problems": [problem_dict(p) for p in result.robot.problems
                               if p.link is None],
         "total_mass": {"before": change.before, "after": change.after,
-                       "warning": change.warn},
+                       "warning": change.warn and not result.targets,
+                       "target": next((t.target for t in result.targets if t.name is None),
+                                      None)},
+        "mass_targets": [t.as_dict() for t in result.targets],
         "links": [link_dict(r) for r in result.links],
     }
