@@ -50,15 +50,7 @@ def first_occurrences(rows: np.ndarray) -> np.ndarray:
     rows = np.asarray(rows, dtype=np.float64)
     if len(rows) == 0:
         return np.zeros(0, dtype=np.int64)
-    columns = np.ascontiguousarray((rows + 0.0).T).view(np.uint64)  # -0.0 + 0.0 is 0.0
-    key = np.zeros(len(rows), dtype=np.uint64)
-    for column in columns:  # as _unique_float_rows
-        key ^= column
-        key ^= key >> np.uint64(30)
-        key *= _MIX[0]
-        key ^= key >> np.uint64(27)
-        key *= _MIX[1]
-        key ^= key >> np.uint64(31)
+    columns, key = _row_keys(rows)
     order = np.argsort(key, kind="stable")
     ordered = key[order]
     new = np.empty(len(key), dtype=bool)
@@ -73,6 +65,22 @@ def first_occurrences(rows: np.ndarray) -> np.ndarray:
     return np.sort(first)
 
 
+
+def _row_keys(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(columns, key)``: the rows' columns as 64-bit patterns (``-0.0`` as ``0.0``) and
+    a 64-bit hash of each row (splitmix64's finaliser: float bits end in zeros, so they
+    are mixed column by column)."""
+    columns = np.ascontiguousarray((rows + 0.0).T).view(np.uint64)  # -0.0 + 0.0 is 0.0
+    key = np.zeros(len(rows), dtype=np.uint64)
+    for column in columns:
+        key ^= column
+        key ^= key >> np.uint64(30)
+        key *= _MIX[0]
+        key ^= key >> np.uint64(27)
+        key *= _MIX[1]
+        key ^= key >> np.uint64(31)
+    return columns, key
+
 def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """:func:`unique_rows` of float rows by hashing their bits; None on a hash collision.
 
@@ -83,15 +91,7 @@ def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     first occurrence of each row represents it (``-0.0`` and ``0.0`` are one value), as
     in the stable lexicographic sort.
     """
-    columns = np.ascontiguousarray((rows + 0.0).T).view(np.uint64)  # -0.0 + 0.0 is 0.0
-    key = np.zeros(len(rows), dtype=np.uint64)
-    for column in columns:  # splitmix64's finaliser: float bits end in zeros, mix them
-        key ^= column
-        key ^= key >> np.uint64(30)
-        key *= _MIX[0]
-        key ^= key >> np.uint64(27)
-        key *= _MIX[1]
-        key ^= key >> np.uint64(31)
+    columns, key = _row_keys(rows)
     order = np.argsort(key)
     ordered = key[order]
     new = np.empty(len(key), dtype=bool)
