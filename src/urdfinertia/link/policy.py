@@ -77,6 +77,10 @@ UNREAD_CODES = frozenset({"geometry-unreadable", "mesh-unresolved"})
 #: A kept CoM lies in the geometry's box grown by this fraction of its diagonal on every
 #: side: collision geometry is often a simplified, slightly smaller hull of the CAD part.
 COM_KEEP_MARGIN = 0.02
+#: A link lighter than this share of the robot's mass is a frame body (ANYmal C's 1 g hips,
+#: Baxter's 0.1 g sensor frames): a placeholder tensor there changes nothing a simulator
+#: does, so with nothing to derive it from it is left as it is without failing the run.
+NEGLIGIBLE_SHARE = 1e-3
 
 ACTIONS = tuple(a.value for a in Action)
 
@@ -160,7 +164,8 @@ def decide_link(link: Link, robot: Robot, kin: Kinematics, options: FixOptions,
     mine = [f for f in findings if f.link == link.name]
     unverified = tuple(f.message for f in mine if f.code == "mesh-unresolved") or tuple(
         f.message for f in mine if f.code == "geometry-unreadable")
-    decision = _decide(link, kin, findings, bounds, density, options, outgrows)
+    decision = _decide(link, kin, findings, bounds, density, options, outgrows,
+                       _negligible(link, robot))
     decision, findings = _slip(link, decision, findings, options, meshes, cache, urdf_dir)
     return replace(decision, findings=tuple(findings), unverified=unverified)
 
@@ -186,7 +191,8 @@ def _slip(link: Link, decision: Decision, findings: list[Finding], options: FixO
 
 
 def _decide(link: Link, kin: Kinematics, findings: list[Finding], bounds: Bounds | None,
-            density: float | None, options: FixOptions, outgrows: bool) -> Decision:
+            density: float | None, options: FixOptions, outgrows: bool,
+            negligible: bool) -> Decision:
     name = link.name
     if _named_in_spec(options, name):
         trust = not ({f.code for f in findings} & MASS_DISTRUST)
@@ -212,12 +218,23 @@ def _decide(link: Link, kin: Kinematics, findings: list[Finding], bounds: Bounds
         # refuses (eigenvalues below its 1e-15 floor), where it took the zero tensor
         return Decision(name, Action.LEAVE, "frame on a fixed joint with a zero tensor and "
                         "nothing to compute from: left as it is")
-    return decide_from_findings(link, findings, bounds, density, options, outgrows)
+    return decide_from_findings(link, findings, bounds, density, options, outgrows,
+                                negligible=negligible)
+
+
+def _negligible(link: Link, robot: Robot) -> bool:
+    """``link``'s written mass is below :data:`NEGLIGIBLE_SHARE` of the robot's."""
+    if link.inertial is None:
+        return False
+    masses = [other.inertial.mass for other in robot.links if other.inertial is not None]
+    total = sum(m for m in masses if np.isfinite(m) and m > 0)
+    mass = link.inertial.mass
+    return bool(np.isfinite(mass) and 0 < mass < NEGLIGIBLE_SHARE * total)
 
 
 def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | None,
                          density: float | None, options: FixOptions,
-                         outgrows: bool = False) -> Decision:
+                         outgrows: bool = False, negligible: bool = False) -> Decision:
     """The default policy for a link that is not a massless frame, from its findings.
 
     ``density`` is the written mass over the geometry's volume (kg/m^3), when known;
@@ -259,7 +276,7 @@ def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | N
     _, refs = select_geometry(link, options.geometry)
     invalid = bool(codes & (INVALID_CODES | {"missing-inertial"}))
     if not_body is not None and not unread and triggers and options.geometry == "auto" \
-            and len([r for r in (link.collisions, link.visuals) if r]) > 1:
+            and not negligible and len([r for r in (link.collisions, link.visuals) if r]) > 1:
         # the geometry judged is not the body; the link's other geometry may be
         return Decision(name, Action.RECOMPUTE, f"{why}; {not_body}", keep_mass=True,
                         keep_com=_inside(link, bounds), bounds=bounds, plausible_only=True)
@@ -268,6 +285,9 @@ def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | N
                  "geometry could not be read" if refs else "no geometry to recompute from")
         if invalid:
             return Decision(name, Action.REPAIR, f"{why}; {cause}")
+        if negligible:  # a frame body: nothing a simulator does depends on its tensor
+            return Decision(name, Action.LEAVE, f"{why}; {cause}: left as it is (under "
+                            f"{100 * NEGLIGIBLE_SHARE:g} % of the robot's mass)")
         return Decision(name, Action.LEAVE, f"{why}; {cause}: left as it is",
                         unresolved=True)
     keep_mass = not (codes & MASS_DISTRUST)
