@@ -47,6 +47,7 @@ def test_rule_ids_never_change():
     recorded = json.loads(SNAPSHOT.read_text())
     current = {code: rule.id for code, rule in RULES.items()}
     assert {c: current.get(c) for c in recorded} == recorded
+    assert set(current) <= set(recorded), "a new rule is missing from the snapshot"
 
 
 def test_an_unregistered_code_still_renders():
