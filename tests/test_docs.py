@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from support.doc_examples import ROOT, blocks, check_file, doc_files, numbers
+from support.doc_examples import ROOT, blocks, check_file, doc_files, numbers, unmatched
 
 FILES = doc_files()
 
@@ -35,6 +35,15 @@ def test_numbers_are_compared_as_printed():
     assert numbers(["link_3.0 | 0.0096 | 8.776e-07 -0.0475 81 %"]) == {
         "0.0096", "8.776e-07", "-0.0475", "81"}  # a name's digits are not a number
     assert "2" not in numbers(["v2.1"])  # no digits cut out of a longer token
+
+
+def test_full_precision_floats_match_within_round_off_only():
+    """A float's full repr may differ in its last digits on another CPU; nothing else may."""
+    printed = {"0.0007500617807307951", "0.0475", "81"}
+    assert not unmatched({"0.0007500617807307948", "81"}, printed)  # 4e-16 relative
+    assert unmatched({"0.0007500617817307951"}, printed)  # 1.3e-9 relative: no
+    assert unmatched({"0.0475000000000001"}, {"0.0475"})  # a short one never matches a long
+    assert unmatched({"0.0476"}, printed) == {"0.0476"}  # short numbers stay exact
 
 
 def test_pages_and_sources_hold_no_machine_paths_history_or_hashes():
