@@ -2,9 +2,11 @@
 
 This is where a part's tensor is computed: primitives by closed form
 (:mod:`urdfinertia.inertia.primitives`), meshes by exact polyhedral integrals of each body
-(:mod:`urdfinertia.mesh.solids`). Every part is computed at unit density (1 kg/m^3) in its own
-frame, with its pose in the link frame; :mod:`urdfinertia.link.assemble` gives it mass and
-moves it to the link's centre of mass.
+(:mod:`urdfinertia.mesh.solids`), printed shells with infill by
+:mod:`urdfinertia.inertia.shell`. Every part is computed at unit density (1 kg/m^3) in its
+own frame, with its pose in the link frame; :mod:`urdfinertia.link.assemble` gives it mass
+and moves it to the link's centre of mass. A shell's "unit" body is its wall plus its
+interior weighted by the infill, so its ``volume`` is that of solid wall material.
 """
 
 from __future__ import annotations
@@ -28,8 +30,12 @@ from urdfinertia.descriptions.model import (
     Sphere,
 )
 from urdfinertia.errors import MeshError, UrdfInertiaError
-from urdfinertia.inertia import primitives
+from urdfinertia.inertia import primitives, shell
 from urdfinertia.inertia.massprops import MassProperties
+from urdfinertia.inertia.polyhedron import mass_properties_from_integrals, solid_integrals
+from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
+from urdfinertia.mesh.read.load import load_mesh
+from urdfinertia.mesh.repair.pipeline import repair_mesh
 
 if TYPE_CHECKING:
     from urdfinertia.mesh.solids import MeshSolids
@@ -167,3 +173,105 @@ def _share(mass: float | None, unit: MassProperties, bodies: list[BodySolid]) ->
         return None
     total = sum(b.unit.mass for b in bodies)
     return mass * unit.mass / total if total > 0 else None
+
+
+@dataclass(frozen=True)
+class Walls:
+    """A part printed as a shell: ``thickness`` m of wall around an interior filled at
+    ``infill`` times the wall's density (0: hollow)."""
+
+    thickness: float
+    infill: float = 0.0
+
+    def label(self) -> str:
+        return f"{self.thickness * 1e3:.4g} mm wall, {self.infill:.4g} infill"
+
+
+def shell_solids(shape: Shape, walls: Walls, meshes: MeshSource, base_dir: Path,
+                 ) -> list[BodySolid]:
+    """Like :func:`shape_solids`, for the shape printed as ``walls``: each body's wall
+    plus its interior weighted by ``walls.infill``, at unit wall density.
+
+    A body whose wall cannot be built (thicker than half the part somewhere, or an
+    ellipsoid more curved than the wall is thick) is kept solid, and its provenance
+    says so: a slicer fills such a part solid too.
+    """
+    if isinstance(shape, Mesh):
+        return _mesh_shells(shape, walls, meshes, base_dir)
+    solid = shape_solids(shape, meshes, base_dir)[0]
+    try:
+        found = _primitive_shell(shape, walls.thickness)
+    except shell.ShellError as exc:
+        return [_kept_solid(solid, walls, str(exc))]
+    return [_shelled(found, walls, solid.provenance, solid.uncertainty, solid.notes)]
+
+
+def _primitive_shell(shape: Shape, t: float) -> shell.Shell:
+    if isinstance(shape, Box):
+        return shell.box_shell(shape.size, t)
+    if isinstance(shape, Cylinder):
+        return shell.cylinder_shell(shape.radius, shape.length, t)
+    if isinstance(shape, Sphere):
+        return shell.sphere_shell(shape.radius, t)
+    if isinstance(shape, Capsule):
+        return shell.capsule_shell(shape.radius, shape.length, t)
+    if isinstance(shape, Cone):
+        return shell.cone_shell(shape.radius, shape.length, t)
+    if isinstance(shape, Ellipsoid):
+        return shell.ellipsoid_shell(shape.radii, t)
+    raise TypeError(f"unknown shape {shape!r}")
+
+
+def _shelled(found: shell.Shell, walls: Walls, provenance: str, uncertainty: float | None,
+             notes: tuple[str, ...]) -> BodySolid:
+    unit = found.filled(walls.infill)
+    wall, interior = found.wall[0], found.interior[0]
+    # the wall's stated error, relative to the weighted volume, on top of the body's own
+    error = found.error * wall / unit.mass + (uncertainty or 0.0)
+    note = (f"shell: {walls.label()} (wall {wall * 1e6:.4g} cm^3, interior "
+            f"{interior * 1e6:.4g} cm^3)")
+    where = f"{provenance}; " if provenance and provenance != "closed form" else ""
+    stated = None if uncertainty is None and not found.error else error
+    return BodySolid(unit, found.method, (*notes, note), f"{where}shell, {walls.label()}",
+                     stated)
+
+
+def _kept_solid(solid: BodySolid, walls: Walls, why: str) -> BodySolid:
+    where = f"{solid.provenance}; " if solid.provenance else ""
+    return BodySolid(solid.unit, solid.method,
+                     (*solid.notes, f"shell not built, part kept solid: {why}"),
+                     f"{where}solid: no {walls.thickness * 1e3:.4g} mm shell fits ({why})",
+                     solid.uncertainty)
+
+
+def _mesh_shells(shape: Mesh, walls: Walls, meshes: MeshSource, base_dir: Path,
+                 ) -> list[BodySolid]:
+    """Each repaired body of the mesh shelled in the scaled frame (the wall's thickness
+    is in metres after ``<mesh scale>``)."""
+    path = meshes.resolve(shape.filename, base_dir)
+    max_faces = getattr(meshes, "max_faces", DEFAULT_MAX_FACES)
+    repaired = repair_mesh(load_mesh(path, max_faces))
+    scale = np.asarray(shape.scale, dtype=np.float64)
+    mirrored = math.prod(shape.scale) < 0
+    out = []
+    for body in repaired.bodies:
+        vertices = body.vertices * scale
+        faces = body.faces[:, ::-1] if mirrored else body.faces
+        volume, first, second = solid_integrals(vertices, faces)
+        if not volume > 0:
+            continue
+        try:
+            unit = mass_properties_from_integrals(volume, first, second, 1.0)
+        except ValueError:
+            continue  # a sliver (as :func:`urdfinertia.mesh.solids.integrate_repaired`)
+        notes = body.notes + repaired.notes
+        solid = BodySolid(unit, body.method, notes, body.provenance, body.error_estimate)
+        try:
+            found = shell.mesh_shell(vertices, faces, walls.thickness)
+        except shell.ShellError as exc:
+            out.append(_kept_solid(solid, walls, str(exc)))
+            continue
+        out.append(_shelled(found, walls, body.provenance, body.error_estimate, notes))
+    if not out:
+        raise MeshError(f"mesh {shape.filename!r} encloses no volume", code="no-volume")
+    return out
