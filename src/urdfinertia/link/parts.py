@@ -33,6 +33,7 @@ from urdfinertia.errors import MeshError, UrdfInertiaError
 from urdfinertia.inertia import primitives, shell
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.polyhedron import mass_properties_from_integrals, solid_integrals
+from urdfinertia.link.shell_voxels import voxel_shell
 from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
 from urdfinertia.mesh.read.load import load_mesh
 from urdfinertia.mesh.repair.pipeline import repair_mesh
@@ -192,9 +193,11 @@ def shell_solids(shape: Shape, walls: Walls, meshes: MeshSource, base_dir: Path,
     """Like :func:`shape_solids`, for the shape printed as ``walls``: each body's wall
     plus its interior weighted by ``walls.infill``, at unit wall density.
 
-    A body whose wall cannot be built (thicker than half the part somewhere, or an
-    ellipsoid more curved than the wall is thick) is kept solid, and its provenance
-    says so: a slicer fills such a part solid too.
+    A mesh body whose exact offset is refused (thinner than two walls somewhere) is
+    estimated on voxels (:mod:`urdfinertia.link.shell_voxels`). A body with no interior
+    at all (a primitive thinner than two walls, an ellipsoid more curved than the wall
+    is thick, a mesh with nothing ``t`` deep) is kept solid, and its provenance says so:
+    a slicer fills such a part solid too.
     """
     if isinstance(shape, Mesh):
         return _mesh_shells(shape, walls, meshes, base_dir)
@@ -269,8 +272,15 @@ def _mesh_shells(shape: Mesh, walls: Walls, meshes: MeshSource, base_dir: Path,
         try:
             found = shell.mesh_shell(vertices, faces, walls.thickness)
         except shell.ShellError as exc:
-            out.append(_kept_solid(solid, walls, str(exc)))
-            continue
+            # thin features somewhere (as in most printed parts): estimated on voxels,
+            # where such places are all wall, as a slicer fills them
+            why = f"exact offset refused: {exc}"
+            try:
+                found = voxel_shell(vertices, faces, walls.thickness)
+            except shell.ShellError as again:
+                out.append(_kept_solid(solid, walls, str(again)))
+                continue
+            notes = (*notes, why)
         out.append(_shelled(found, walls, body.provenance, body.error_estimate, notes))
     if not out:
         raise MeshError(f"mesh {shape.filename!r} encloses no volume", code="no-volume")

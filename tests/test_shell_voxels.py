@@ -1,0 +1,53 @@
+"""link/shell_voxels.py: the voxel estimate of a wall against exact shells; its stated
+error must cover the actual one."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import trimesh
+
+from urdfinertia.inertia import shell
+from urdfinertia.link.shell_voxels import voxel_shell
+
+
+def _check(found: shell.Shell, wall: float, interior: float) -> float:
+    actual = abs(found.wall[0] - wall) / wall
+    assert actual <= found.error
+    assert found.wall[0] + found.interior[0] == pytest.approx(wall + interior, rel=1e-9)
+    return actual
+
+
+@pytest.mark.parametrize("mesh", [
+    trimesh.creation.icosphere(subdivisions=4, radius=0.04),
+    trimesh.creation.cylinder(radius=0.025, height=0.08, sections=96),
+    trimesh.creation.box(extents=[0.07, 0.05, 0.03]),
+])
+def test_against_the_exact_offset(mesh: trimesh.Trimesh) -> None:
+    """Meshes whose exact offset is valid (icosphere: within its stated ~1e-5)."""
+    reference = shell.mesh_shell(mesh.vertices, mesh.faces, 0.002)
+    found = voxel_shell(mesh.vertices, mesh.faces, 0.002)
+    actual = _check(found, reference.wall[0], reference.interior[0])
+    assert actual < 0.08
+    assert "voxel estimate" in found.method
+
+
+def test_a_thin_plate_beside_a_box_is_all_wall() -> None:
+    """Two bodies: a box (exact shell) and a 1.5 mm plate beside it, which no 2 mm wall
+    fits inside: the exact offset is refused, the voxels count the plate as wall."""
+    box = trimesh.creation.box(extents=[0.06, 0.05, 0.04])
+    plate = trimesh.creation.box(extents=[0.05, 0.04, 0.0015])
+    plate.apply_translation([0.0, 0.0, 0.03])
+    vertices = np.vstack([box.vertices, plate.vertices])
+    faces = np.vstack([box.faces, plate.faces + len(box.vertices)])
+    with pytest.raises(shell.ShellError):
+        shell.mesh_shell(vertices, faces, 0.002)
+    found = voxel_shell(vertices, faces, 0.002)
+    exact = shell.box_shell([0.06, 0.05, 0.04], 0.002)
+    _check(found, exact.wall[0] + plate.volume, exact.interior[0])
+
+
+def test_nothing_deep_enough() -> None:
+    plate = trimesh.creation.box(extents=[0.05, 0.04, 0.003])
+    with pytest.raises(shell.ShellError, match="all wall"):
+        voxel_shell(plate.vertices, plate.faces, 0.002)
