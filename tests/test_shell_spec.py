@@ -139,3 +139,21 @@ def test_reading_errors(tmp_path: Path, part: str, key: str, message: str) -> No
         parse_spec(text, tmp_path / "s.toml")
     assert f"links.l.elements.e.parts.{key}" in str(info.value)
     assert message in str(info.value)
+
+
+def test_a_part_with_a_thin_fin_is_estimated_on_voxels(urdf: Path) -> None:
+    """One body: a box with a 1.5 mm fin standing on it. The exact offset is refused (no
+    2 mm wall fits in the fin) and the voxel estimate says so, with its stated error."""
+    box = trimesh.creation.box(extents=SIZE)
+    fin = trimesh.creation.box(extents=[0.08, 0.0015, 0.03])
+    fin.apply_translation([0, 0, 0.034])  # overlaps the box by 1 mm: one body
+    trimesh.boolean.union([box, fin], engine="manifold").export(urdf.parent / "fin.stl")
+    result = _fix(urdf, 'mesh = { filename = "fin.stl" }\nmaterial = "PLA"\n'
+                  "shell = { thickness = 0.002 }\ninfill = 0.2")
+    (part,) = [pr.part for pr in result.assembly.parts]
+    assert "voxel estimate" in part.method
+    assert any("exact offset refused" in note for note in part.notes)
+    assert part.uncertainty is not None and 0 < part.uncertainty < 0.2
+    box_only, _ = _expected(0.002, PLA, 0.2 * PLA)
+    fin_mass = PLA * 0.08 * 0.0015 * 0.028  # all wall
+    assert result.after.mass == pytest.approx(box_only + fin_mass, rel=part.uncertainty)
