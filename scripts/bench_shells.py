@@ -1,6 +1,9 @@
 """3-D printed robots: what a PLA shell with infill weighs against the written link masses.
 
-    nice .venv/bin/python scripts/bench_shells.py [--wall 0.002] [--infill 0.2]
+    nice .venv/bin/python scripts/bench_shells.py [--wall 0.002] [--infill 0.2] [--closed-forms]
+
+``--closed-forms`` first prints the wall volumes of test bodies against their exact
+references (the figures of docs/shells.md; tests/test_shell*.py assert them).
 
 For every link of the printed arms and legs in the gathered corpus (mani-skill's SO-100
 and Koch arms, upkie's legs), each visual drawn in the printed parts' colour is taken as
@@ -50,11 +53,56 @@ def _colours(path: Path) -> dict[tuple[str, int], str]:
     return out
 
 
+def closed_forms(t: float) -> None:
+    """Each method's wall volume against an exact reference, with its stated error."""
+    import numpy as np
+    import trimesh
+
+    from urdfinertia.inertia import shell
+    from urdfinertia.link.shell_voxels import voxel_shell
+
+    def sphere(r: float) -> float:
+        return 4 / 3 * np.pi * (r**3 - (r - t) ** 3)
+
+    box = trimesh.creation.box(extents=[0.1, 0.06, 0.04])
+    ico = trimesh.creation.icosphere(subdivisions=4, radius=0.05)
+    cyl = trimesh.creation.cylinder(radius=0.03, height=0.1, sections=64)
+    rows = [
+        ("sphere r 50 mm, closed form", shell.sphere_shell(0.05, t), sphere(0.05)),
+        ("box 100x60x40 mm, closed form", shell.box_shell([0.1, 0.06, 0.04], t),
+         0.1 * 0.06 * 0.04 - (0.1 - 2 * t) * (0.06 - 2 * t) * (0.04 - 2 * t)),
+        ("ellipsoid 50 mm (sphere), tube integral",
+         shell.ellipsoid_shell([0.05, 0.05, 0.05], t), sphere(0.05)),
+        ("box mesh (12 faces), vertex offset", shell.mesh_shell(box.vertices, box.faces, t),
+         shell.box_shell([0.1, 0.06, 0.04], t).wall[0]),
+        ("cylinder mesh (64 sides), vertex offset",
+         shell.mesh_shell(cyl.vertices, cyl.faces, t),
+         # the 64-gon prism's inner body: apothem r cos(pi/n) - t, height L - 2t
+         cyl.volume - 64 * (0.03 * np.cos(np.pi / 64) - t) ** 2 * np.tan(np.pi / 64)
+         * (0.1 - 2 * t)),
+        ("icosphere mesh (5120 faces) vs sphere", shell.mesh_shell(ico.vertices, ico.faces, t),
+         sphere(0.05)),
+        ("box mesh, voxel estimate", voxel_shell(box.vertices, box.faces, t),
+         shell.box_shell([0.1, 0.06, 0.04], t).wall[0]),
+        ("icosphere mesh, voxel estimate", voxel_shell(ico.vertices, ico.faces, t),
+         shell.mesh_shell(ico.vertices, ico.faces, t).wall[0]),
+    ]
+    print(f"{'wall of':<42} {'cm3':>9} {'reference':>9} {'deviation':>10} {'stated':>8}")
+    for label, found, reference in rows:
+        print(f"{label:<42} {found.wall[0] * 1e6:9.4f} {reference * 1e6:9.4f} "
+              f"{found.wall[0] / reference - 1:+10.2e} {found.error:8.1e}")
+    print()
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--wall", type=float, default=0.002, help="wall thickness, m")
     ap.add_argument("--infill", type=float, default=0.2, help="infill fraction 0..1")
+    ap.add_argument("--closed-forms", action="store_true",
+                    help="first the test bodies against exact references")
     args = ap.parse_args(argv)
+    if args.closed_forms:
+        closed_forms(args.wall)
     packages = robot_packages(("urdf",))
     walls = Walls(args.wall, args.infill)
     print(f"PLA {PLA:g} kg/m^3, {walls.label()}")

@@ -9,8 +9,9 @@ the wall is the exact solid minus it.
 
 The transform gives, for an inside centre at depth ``d``, the distance ``e`` to the
 nearest outside centre, with ``d <= e <= d + h sqrt(3) / 2`` (voxel size ``h``): ``d`` is
-taken as ``e - 0.43 h``, within ``0.43 h``. The stated error of the wall volume is that
-band over the surface, ``0.43 h area / wall volume``; the tests measure the actual error
+taken as ``e - 0.43 h``, within ``0.43 h``; counting whole voxels moves the interior's
+boundary by up to another ``h / 2``. The stated error of the wall volume is those two
+bands over the surface, ``0.93 h area / wall volume``; the tests measure the actual error
 against exact shells.
 """
 
@@ -22,12 +23,14 @@ from scipy import ndimage
 from urdfinertia.inertia.polyhedron import solid_integrals
 from urdfinertia.inertia.shell import Moments, Shell, ShellError
 
-#: Voxels in the grid, at most (the distance transform takes ~1 s a million): a part
-#: larger than about 100 mm gets voxels larger than a sixth of a 2 mm wall, and says so
+#: Voxels in the grid, at most (the distance transform takes ~1 s a million): a box
+#: larger than about 60 mm cubed gets voxels larger than a sixth of a 2 mm wall, and says so
 #: in its stated error.
-MAX_VOXELS = 4_000_000
+MAX_VOXELS = 6_000_000
 #: Half the spread of the transform's distance over the true depth, in voxels.
 _BAND = np.sqrt(3) / 4
+#: How far the interior's boundary may be misplaced, in voxels (module docstring).
+_REACH = _BAND + 0.5
 #: Voxels across the wall thickness, at most.
 VOXELS_PER_WALL = 6
 #: Grid offset in voxels: irrational, so that rays miss the axis-aligned edges of CAD parts.
@@ -58,7 +61,7 @@ def voxel_shell(vertices: np.ndarray, faces: np.ndarray, t: float,
     tri = v[f]
     area = 0.5 * float(np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
                                       axis=1).sum())
-    error = _BAND * h * area / wall[0]
+    error = _REACH * h * area / wall[0]
     return Shell(wall, fine, error, f"mesh shell (voxel estimate, {h * 1e3:.3g} mm voxels)")
 
 
