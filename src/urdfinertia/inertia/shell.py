@@ -42,7 +42,7 @@ from urdfinertia.inertia.polyhedron import (
 #: directions no adjacent face constrains (a flat or straight neighbourhood).
 _RANK_RTOL = 1e-9
 #: About this many vertex-face pairs are tested for the depth and containment checks (all
-#: vertices of a mesh under ~1400 faces, an even sample of larger ones).
+#: vertices of a mesh under ~2000 faces, an even sample of larger ones).
 _CHECK_PAIRS = 2_000_000
 #: Quadrature of the ellipsoid's wall: Gauss-Legendre nodes in the polar angle, trapezoid
 #: nodes in the azimuth (exact for the cubic-in-s integrands with 3 nodes in s).
