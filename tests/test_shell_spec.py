@@ -157,3 +157,15 @@ def test_a_part_with_a_thin_fin_is_estimated_on_voxels(urdf: Path) -> None:
     box_only, _ = _expected(0.002, PLA, 0.2 * PLA)
     fin_mass = PLA * 0.08 * 0.0015 * 0.028  # all wall
     assert result.after.mass == pytest.approx(box_only + fin_mass, rel=part.uncertainty)
+
+
+@pytest.mark.parametrize("scale", ["0.001", "[-0.001, 0.001, 0.001]"])
+def test_the_wall_is_in_metres_after_the_mesh_scale(urdf: Path, scale: str) -> None:
+    """A mesh in millimetres (and mirrored): the 2 mm wall is measured after scaling."""
+    trimesh.creation.box(extents=SIZE * 1000).export(urdf.parent / "box_mm.stl")
+    result = _fix(urdf, f'mesh = {{ filename = "box_mm.stl", scale = {scale} }}\n'
+                  'material = "PLA"\nshell = { thickness = 0.002 }\ninfill = 0.2')
+    mass, inertia = _expected(0.002, PLA, 0.2 * PLA)
+    assert result.after.mass == pytest.approx(mass, rel=1e-6)  # float32 STL
+    np.testing.assert_allclose(result.after.inertia, inertia, rtol=1e-6, atol=1e-15)
+    assert result.assembly.parts[0].part.method == "mesh shell (exact offset: simple corners)"
