@@ -4,6 +4,7 @@
 
 ``--closed-forms`` first prints the wall volumes of test bodies against their exact
 references (the figures of docs/shells.md; tests/test_shell*.py assert them).
+``--grids`` first prints the voxel estimate of two SO-100 parts at several voxel sizes.
 
 For every link of the printed arms and legs in the gathered corpus (mani-skill's SO-100
 and Koch arms, upkie's legs), each visual drawn in the printed parts' colour is taken as
@@ -94,15 +95,46 @@ def closed_forms(t: float) -> None:
     print()
 
 
+def grids(t: float) -> None:
+    """The voxel estimate of real parts (whose exact offset is refused) on finer grids."""
+    from urdfinertia.link import shell_voxels
+    from urdfinertia.mesh.read.load import load_mesh
+    from urdfinertia.mesh.repair.pipeline import repair_mesh
+
+    so100 = next((p for p in robot_packages(("urdf",)).get("mani-skill", [])
+                  if p.name == "so100.urdf"), None)
+    if so100 is None:
+        print("mani-skill's so100.urdf is not in the corpus")
+        return
+    print(f"{'part':<16} {'voxel mm':>8} {'wall cm3':>9} {'stated':>7} {'s':>5}")
+    for name in ("Moving_Jaw.stl", "Upper_Arm.stl"):
+        repaired = repair_mesh(load_mesh(so100.parent / "meshes" / name))
+        body = max(repaired.bodies, key=lambda b: len(b.faces))
+        for per_wall, voxels in ((6, 1_000_000), (6, 6_000_000), (16, 6_000_000),
+                                 (16, 20_000_000)):
+            shell_voxels.VOXELS_PER_WALL = per_wall
+            t0 = time.perf_counter()
+            found = shell_voxels.voxel_shell(body.vertices, body.faces, t, voxels)
+            size = found.method.split(", ")[1].split(" mm")[0]
+            print(f"{name:<16} {size:>8} {found.wall[0] * 1e6:9.3f} {found.error:7.3f} "
+                  f"{time.perf_counter() - t0:5.1f}")
+    shell_voxels.VOXELS_PER_WALL = 6
+    print()
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--wall", type=float, default=0.002, help="wall thickness, m")
     ap.add_argument("--infill", type=float, default=0.2, help="infill fraction 0..1")
     ap.add_argument("--closed-forms", action="store_true",
                     help="first the test bodies against exact references")
+    ap.add_argument("--grids", action="store_true",
+                    help="first two SO-100 parts' voxel estimates at several voxel sizes")
     args = ap.parse_args(argv)
     if args.closed_forms:
         closed_forms(args.wall)
+    if args.grids:
+        grids(args.wall)
     packages = robot_packages(("urdf",))
     walls = Walls(args.wall, args.infill)
     print(f"PLA {PLA:g} kg/m^3, {walls.label()}")
