@@ -51,3 +51,23 @@ def test_nothing_deep_enough() -> None:
     plate = trimesh.creation.box(extents=[0.05, 0.04, 0.003])
     with pytest.raises(shell.ShellError, match="all wall"):
         voxel_shell(plate.vertices, plate.faces, 0.002)
+
+
+def test_an_ellipsoid_beyond_the_tube_integral_goes_to_voxels() -> None:
+    """The voxel path for ellipsoids, against the tube integral where both apply; and a
+    flat ellipsoid (curvature radius 0.72 mm under a 2 mm wall) estimated, not solid."""
+    from pathlib import Path
+
+    from urdfinertia.descriptions.model import Ellipsoid
+    from urdfinertia.inertia import primitives
+    from urdfinertia.link.parts import Walls, _ellipsoid_on_voxels, shell_solids
+
+    radii = (0.05, 0.04, 0.03)
+    tube = shell.ellipsoid_shell(radii, 0.004)
+    voxels = _ellipsoid_on_voxels(Ellipsoid(radii), 0.004, primitives.ellipsoid(radii, 1.0))
+    assert abs(voxels.wall[0] / tube.wall[0] - 1) <= voxels.error
+    (flat,) = shell_solids(Ellipsoid((0.05, 0.05, 0.006)), Walls(0.002, 0.0), None,  # type: ignore[arg-type]
+                           Path("."))
+    assert "voxel estimate" in flat.method
+    assert any("tube integral refused" in note for note in flat.notes)
+    assert flat.unit.mass < primitives.ellipsoid((0.05, 0.05, 0.006), 1.0).mass
