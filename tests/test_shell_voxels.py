@@ -71,3 +71,18 @@ def test_an_ellipsoid_beyond_the_tube_integral_goes_to_voxels() -> None:
     assert "voxel estimate" in flat.method
     assert any("tube integral refused" in note for note in flat.notes)
     assert flat.unit.mass < primitives.ellipsoid((0.05, 0.05, 0.006), 1.0).mass
+
+
+def test_a_large_mesh_offset_is_cross_checked_on_voxels() -> None:
+    """Over 2000 faces only a sample of vertices is depth-checked: the offset's wall must
+    then agree with a coarse voxel estimate. A right one does; a wrong one is refused."""
+    from urdfinertia.link.parts import _cross_check
+
+    ico = trimesh.creation.icosphere(subdivisions=4, radius=0.05)  # 5120 faces
+    assert len(ico.faces) > shell.CHECKED_FACES
+    found = shell.mesh_shell(ico.vertices, ico.faces, 0.002)
+    _cross_check(found, ico.vertices, ico.faces, 0.002)
+    v, first, second = found.wall
+    wrong = shell.Shell((1.5 * v, 1.5 * first, 1.5 * second), found.interior, 0.0, "wrong")
+    with pytest.raises(shell.ShellError, match="outside a voxel estimate"):
+        _cross_check(wrong, ico.vertices, ico.faces, 0.002)

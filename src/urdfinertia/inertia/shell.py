@@ -44,6 +44,8 @@ _RANK_RTOL = 1e-9
 #: About this many vertex-face pairs are tested for the depth and containment checks (all
 #: vertices of a mesh under ~2000 faces, an even sample of larger ones).
 _CHECK_PAIRS = 2_000_000
+#: Meshes with more faces than this have only a sample of their vertices depth-checked.
+CHECKED_FACES = int(np.sqrt(2 * _CHECK_PAIRS))
 #: Quadrature of the ellipsoid's wall: Gauss-Legendre nodes in the polar angle, trapezoid
 #: nodes in the azimuth (exact for the cubic-in-s integrands with 3 nodes in s).
 _ELLIPSOID_NODES = (160, 320)

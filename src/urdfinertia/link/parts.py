@@ -281,6 +281,21 @@ def _kept_solid(solid: BodySolid, walls: Walls, why: str) -> BodySolid:
                      solid.uncertainty)
 
 
+def _cross_check(found: shell.Shell, vertices: np.ndarray, faces: np.ndarray,
+                 t: float) -> None:
+    """A mesh too large for the offset's depth check to test every vertex
+    (:data:`urdfinertia.inertia.shell.CHECKED_FACES`) is checked against a coarse voxel
+    estimate: a wall outside the estimate's stated error is refused (an overlap the
+    sampled check missed), never taken."""
+    if len(faces) <= shell.CHECKED_FACES:
+        return
+    coarse = voxel_shell(vertices, faces, t, max_voxels=1_000_000)
+    if abs(found.wall[0] - coarse.wall[0]) > coarse.error * coarse.wall[0]:
+        raise shell.ShellError(f"the offset's wall ({found.wall[0] * 1e6:.4g} cm^3) is "
+                               f"outside a voxel estimate's ({coarse.wall[0] * 1e6:.4g} "
+                               f"cm^3 +- {coarse.error:.0%})")
+
+
 def _mesh_shells(shape: Mesh, walls: Walls, meshes: MeshSource, base_dir: Path,
                  ) -> list[BodySolid]:
     """Each repaired body of the mesh shelled in the scaled frame (the wall's thickness
@@ -305,6 +320,7 @@ def _mesh_shells(shape: Mesh, walls: Walls, meshes: MeshSource, base_dir: Path,
         solid = BodySolid(unit, body.method, notes, body.provenance, body.error_estimate)
         try:
             found = shell.mesh_shell(vertices, faces, walls.thickness)
+            _cross_check(found, vertices, faces, walls.thickness)
         except shell.ShellError as exc:
             # thin features somewhere (as in most printed parts): estimated on voxels,
             # where such places are all wall, as a slicer fills them
