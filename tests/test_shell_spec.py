@@ -71,7 +71,8 @@ def test_pla_shell_with_infill(urdf: Path, shape: str) -> None:
     assert result.after.mass == pytest.approx(mass, rel=rtol)
     np.testing.assert_allclose(result.after.inertia, inertia, rtol=max(rtol, 1e-9), atol=1e-15)
     provenance = [pr.part.provenance for pr in result.assembly.parts]
-    assert all("shell, 2 mm wall, 0.2 infill" in p for p in provenance)
+    assert all("shell, 2 mm wall, interior at 0.2 x the wall's density" in p
+               for p in provenance)
 
 
 def test_hollow_by_default(urdf: Path) -> None:

@@ -185,7 +185,10 @@ class Walls:
     infill: float = 0.0
 
     def label(self) -> str:
-        return f"{self.thickness * 1e3:.4g} mm wall, {self.infill:.4g} infill"
+        if self.infill == 0:
+            return f"{self.thickness * 1e3:.4g} mm wall, hollow"
+        return (f"{self.thickness * 1e3:.4g} mm wall, interior at {self.infill:.4g} x the "
+                "wall's density")
 
 
 def shell_solids(shape: Shape, walls: Walls, meshes: MeshSource, base_dir: Path,
