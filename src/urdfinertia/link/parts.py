@@ -268,12 +268,12 @@ def _shelled(found: shell.Shell, walls: Walls, provenance: str, uncertainty: flo
     wall, interior = found.wall[0], found.interior[0]
     # the wall's stated error, relative to the weighted volume, on top of the body's own
     error = found.error * wall / unit.mass + (uncertainty or 0.0)
-    note = (f"shell: {walls.label()} (wall {wall * 1e6:.4g} cm^3, interior "
-            f"{interior * 1e6:.4g} cm^3)")
+    # what was asked for goes in the provenance; notes are for what went wrong
     where = f"{provenance}; " if provenance and provenance != "closed form" else ""
     stated = None if uncertainty is None and not found.error else error
-    return BodySolid(unit, found.method, (*notes, note), f"{where}shell, {walls.label()}",
-                     stated)
+    return BodySolid(unit, found.method, notes,
+                     f"{where}shell, {walls.label()} (wall {wall * 1e6:.4g} cm^3, "
+                     f"interior {interior * 1e6:.4g} cm^3)", stated)
 
 
 def _kept_solid(solid: BodySolid, walls: Walls, why: str) -> BodySolid:
