@@ -2,9 +2,11 @@
 
 This is where a part's tensor is computed: primitives by closed form
 (:mod:`urdfinertia.inertia.primitives`), meshes by exact polyhedral integrals of each body
-(:mod:`urdfinertia.mesh.solids`). Every part is computed at unit density (1 kg/m^3) in its own
-frame, with its pose in the link frame; :mod:`urdfinertia.link.assemble` gives it mass and
-moves it to the link's centre of mass.
+(:mod:`urdfinertia.mesh.solids`), printed shells with infill by
+:mod:`urdfinertia.inertia.shell`. Every part is computed at unit density (1 kg/m^3) in its
+own frame, with its pose in the link frame; :mod:`urdfinertia.link.assemble` gives it mass
+and moves it to the link's centre of mass. A shell's "unit" body is its wall plus its
+interior weighted by the infill, so its ``volume`` is that of solid wall material.
 """
 
 from __future__ import annotations
@@ -28,8 +30,13 @@ from urdfinertia.descriptions.model import (
     Sphere,
 )
 from urdfinertia.errors import MeshError, UrdfInertiaError
-from urdfinertia.inertia import primitives
+from urdfinertia.inertia import primitives, shell
 from urdfinertia.inertia.massprops import MassProperties
+from urdfinertia.inertia.polyhedron import mass_properties_from_integrals, solid_integrals
+from urdfinertia.link.shell_voxels import voxel_shell
+from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
+from urdfinertia.mesh.read.load import load_mesh
+from urdfinertia.mesh.repair.pipeline import repair_mesh
 
 if TYPE_CHECKING:
     from urdfinertia.mesh.solids import MeshSolids
@@ -167,3 +174,167 @@ def _share(mass: float | None, unit: MassProperties, bodies: list[BodySolid]) ->
         return None
     total = sum(b.unit.mass for b in bodies)
     return mass * unit.mass / total if total > 0 else None
+
+
+@dataclass(frozen=True)
+class Walls:
+    """A part printed as a shell: ``thickness`` m of wall around an interior filled at
+    ``infill`` times the wall's density (0: hollow)."""
+
+    thickness: float
+    infill: float = 0.0
+
+    def label(self) -> str:
+        if self.infill == 0:
+            return f"{self.thickness * 1e3:.4g} mm wall, hollow"
+        return (f"{self.thickness * 1e3:.4g} mm wall, interior at {self.infill:.4g} x the "
+                "wall's density")
+
+
+def shell_solids(shape: Shape, walls: Walls, meshes: MeshSource, base_dir: Path,
+                 ) -> list[BodySolid]:
+    """Like :func:`shape_solids`, for the shape printed as ``walls``: each body's wall
+    plus its interior weighted by ``walls.infill``, at unit wall density.
+
+    A mesh body whose exact offset is refused (thinner than two walls somewhere) is
+    estimated on voxels (:mod:`urdfinertia.link.shell_voxels`). A body with no interior
+    at all (a primitive thinner than two walls, an ellipsoid more curved than the wall
+    is thick, a mesh with nothing ``t`` deep) is kept solid, and its provenance says so:
+    a slicer fills such a part solid too.
+    """
+    if isinstance(shape, Mesh):
+        return _mesh_shells(shape, walls, meshes, base_dir)
+    solid = shape_solids(shape, meshes, base_dir)[0]
+    notes = solid.notes
+    try:
+        found = _primitive_shell(shape, walls.thickness)
+    except shell.ShellError as exc:
+        if not isinstance(shape, Ellipsoid):
+            return [_kept_solid(solid, walls, str(exc))]
+        try:
+            found = _ellipsoid_on_voxels(shape, walls.thickness, solid.unit)
+        except shell.ShellError as again:
+            return [_kept_solid(solid, walls, str(again))]
+        notes = (*notes, f"tube integral refused: {exc}")
+    return [_shelled(found, walls, solid.provenance, solid.uncertainty, notes)]
+
+
+def _ellipsoid_on_voxels(shape: Ellipsoid, t: float, unit: MassProperties) -> shell.Shell:
+    """An ellipsoid more curved than its wall is thick (its inner body has edges): the
+    interior estimated on voxels of a 96 x 192 latitude-longitude mesh of it, the wall
+    the exact ellipsoid minus that interior."""
+    theta = np.linspace(0.0, np.pi, 97)[1:-1]
+    phi = np.linspace(0.0, 2 * np.pi, 192, endpoint=False)
+    th, ph = np.meshgrid(theta, phi, indexing="ij")
+    ring = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], axis=-1)
+    vertices = np.vstack([[0, 0, 1], ring.reshape(-1, 3), [0, 0, -1]]) * np.asarray(shape.radii)
+    n, last = len(phi), len(vertices) - 1
+    j = np.arange(n)
+    faces = [np.column_stack([np.zeros(n, dtype=np.int64), 1 + j, 1 + (j + 1) % n])]
+    for i in range(len(theta) - 1):
+        a, b = 1 + i * n + j, 1 + i * n + (j + 1) % n
+        faces += [np.column_stack([a, a + n, b + n]), np.column_stack([a, b + n, b])]
+    k = 1 + (len(theta) - 1) * n
+    faces.append(np.column_stack([np.full(n, last), k + (j + 1) % n, k + j]))
+    f = np.vstack(faces)
+    if solid_integrals(vertices, f)[0] < 0:
+        f = f[:, ::-1]
+    found = voxel_shell(vertices, f, t)
+    v, first, second = shell.moments_of(unit)
+    inner = found.interior
+    return shell.Shell((v - inner[0], first - inner[1], second - inner[2]), inner,
+                       found.error, found.method.replace("mesh", "ellipsoid", 1))
+
+
+def _primitive_shell(shape: Shape, t: float) -> shell.Shell:
+    if isinstance(shape, Box):
+        return shell.box_shell(shape.size, t)
+    if isinstance(shape, Cylinder):
+        return shell.cylinder_shell(shape.radius, shape.length, t)
+    if isinstance(shape, Sphere):
+        return shell.sphere_shell(shape.radius, t)
+    if isinstance(shape, Capsule):
+        return shell.capsule_shell(shape.radius, shape.length, t)
+    if isinstance(shape, Cone):
+        return shell.cone_shell(shape.radius, shape.length, t)
+    if isinstance(shape, Ellipsoid):
+        return shell.ellipsoid_shell(shape.radii, t)
+    raise TypeError(f"unknown shape {shape!r}")
+
+
+def _shelled(found: shell.Shell, walls: Walls, provenance: str, uncertainty: float | None,
+             notes: tuple[str, ...]) -> BodySolid:
+    unit = found.filled(walls.infill)
+    wall, interior = found.wall[0], found.interior[0]
+    # the wall's stated error, relative to the weighted volume, on top of the body's own
+    error = found.error * wall / unit.mass + (uncertainty or 0.0)
+    # what was asked for goes in the provenance; notes are for what went wrong
+    where = f"{provenance}; " if provenance and provenance != "closed form" else ""
+    stated = None if uncertainty is None and not found.error else error
+    return BodySolid(unit, found.method, notes,
+                     f"{where}shell, {walls.label()} (wall {wall * 1e6:.4g} cm^3, "
+                     f"interior {interior * 1e6:.4g} cm^3)", stated)
+
+
+def _kept_solid(solid: BodySolid, walls: Walls, why: str) -> BodySolid:
+    where = f"{solid.provenance}; " if solid.provenance else ""
+    return BodySolid(solid.unit, solid.method,
+                     (*solid.notes, f"shell not built, part kept solid: {why}"),
+                     f"{where}solid: no {walls.thickness * 1e3:.4g} mm shell fits ({why})",
+                     solid.uncertainty)
+
+
+def _cross_check(found: shell.Shell, vertices: np.ndarray, faces: np.ndarray,
+                 t: float) -> None:
+    """A mesh too large for the offset's depth check to test every vertex
+    (:data:`urdfinertia.inertia.shell.CHECKED_FACES`) is checked against a coarse voxel
+    estimate: a wall outside the estimate's stated error is refused (an overlap the
+    sampled check missed), never taken."""
+    if len(faces) <= shell.CHECKED_FACES:
+        return
+    coarse = voxel_shell(vertices, faces, t, max_voxels=1_000_000)
+    if abs(found.wall[0] - coarse.wall[0]) > coarse.error * coarse.wall[0]:
+        raise shell.ShellError(f"the offset's wall ({found.wall[0] * 1e6:.4g} cm^3) is "
+                               f"outside a voxel estimate's ({coarse.wall[0] * 1e6:.4g} "
+                               f"cm^3 +- {coarse.error:.0%})")
+
+
+def _mesh_shells(shape: Mesh, walls: Walls, meshes: MeshSource, base_dir: Path,
+                 ) -> list[BodySolid]:
+    """Each repaired body of the mesh shelled in the scaled frame (the wall's thickness
+    is in metres after ``<mesh scale>``)."""
+    path = meshes.resolve(shape.filename, base_dir)
+    max_faces = getattr(meshes, "max_faces", DEFAULT_MAX_FACES)
+    repaired = repair_mesh(load_mesh(path, max_faces))
+    scale = np.asarray(shape.scale, dtype=np.float64)
+    mirrored = math.prod(shape.scale) < 0
+    out = []
+    for body in repaired.bodies:
+        vertices = body.vertices * scale
+        faces = body.faces[:, ::-1] if mirrored else body.faces
+        volume, first, second = solid_integrals(vertices, faces)
+        if not volume > 0:
+            continue
+        try:
+            unit = mass_properties_from_integrals(volume, first, second, 1.0)
+        except ValueError:
+            continue  # a sliver (as :func:`urdfinertia.mesh.solids.integrate_repaired`)
+        notes = body.notes + repaired.notes
+        solid = BodySolid(unit, body.method, notes, body.provenance, body.error_estimate)
+        try:
+            found = shell.mesh_shell(vertices, faces, walls.thickness)
+            _cross_check(found, vertices, faces, walls.thickness)
+        except shell.ShellError as exc:
+            # thin features somewhere (as in most printed parts): estimated on voxels,
+            # where such places are all wall, as a slicer fills them
+            why = f"exact offset refused: {exc}"
+            try:
+                found = voxel_shell(vertices, faces, walls.thickness)
+            except shell.ShellError as again:
+                out.append(_kept_solid(solid, walls, str(again)))
+                continue
+            notes = (*notes, why)
+        out.append(_shelled(found, walls, body.provenance, body.error_estimate, notes))
+    if not out:
+        raise MeshError(f"mesh {shape.filename!r} encloses no volume", code="no-volume")
+    return out

@@ -40,7 +40,14 @@ from urdfinertia.errors import MeshError, SpecError
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.mass import MassShareError, MassSource, link_mass_source, share_mass
 from urdfinertia.link.materials import MATERIALS, material_density, material_key
-from urdfinertia.link.parts import MeshSource, Part, shape_solids
+from urdfinertia.link.parts import (
+    BodySolid,
+    MeshSource,
+    Part,
+    Walls,
+    shape_solids,
+    shell_solids,
+)
 
 if TYPE_CHECKING:
     from urdfinertia.link.options import FixOptions
@@ -53,8 +60,11 @@ _TOP_KEYS = ("links", "materials", "total_mass", "subtree")
 _SUBTREE_KEYS = ("mass",)
 _LINK_KEYS = ("mass", "elements")
 _ELEMENT_KEYS = ("xyz", "rpy", "density", "material", "parts")
+SHELL, INFILL = "shell", "infill"  # a 3-D printed part: walls and a partly filled interior
+_SHELL_KEYS = ("thickness",)
+_INFILL_KEYS = ("fraction", "density", "material")
 _PART_KEYS = (*PRIMITIVES, *REFERENCES, POINT, "xyz", "rpy", "density", "material", "mass",
-              "cavity")
+              "cavity", SHELL, INFILL)
 _SHAPE_KEYS = {"box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",),
                "capsule": ("radius", "length"), "mesh": ("filename", "scale")}
 
@@ -108,6 +118,7 @@ class PartSpec:
     density: float | None  # kg/m^3, from ``density`` or ``material``
     mass: float | None  # kg
     cavity: bool
+    walls: Walls | None = None  # ``shell`` and ``infill``: the part is printed hollow
 
     @property
     def known(self) -> bool:
@@ -168,11 +179,11 @@ class LinkSpec:
                               mass=p.mass, provenance="point mass")]
         if isinstance(p.source, GeometrySelector):
             ref = p.source.find(link, f"{p.key}.{p.source.role}", self.path)
-            bodies = shape_solids(ref.shape, meshes, urdf_dir)
+            bodies = _solids(ref.shape, p.walls, meshes, urdf_dir)
             pose, where = ref.origin.matrix(), f" of {ref.label}"
         else:
             try:
-                bodies = shape_solids(p.source, meshes, self.path.parent)
+                bodies = _solids(p.source, p.walls, meshes, self.path.parent)
             except MeshError as exc:
                 if exc.file is not None:
                     raise
@@ -250,6 +261,12 @@ class Spec:
                 hint = f" (did you mean {', '.join(close)}?)" if close else ""
                 raise SpecError(f"subtree.{_q(name)}: the URDF '{robot.name}' has no link "
                                 f"'{name}'{hint}", file=self.path)
+
+
+def _solids(shape: Shape, walls: Walls | None, meshes: MeshSource, base_dir: Path,
+            ) -> list[BodySolid]:
+    return (shape_solids(shape, meshes, base_dir) if walls is None
+            else shell_solids(shape, walls, meshes, base_dir))
 
 
 # --- reading --------------------------------------------------------------------------
@@ -400,7 +417,52 @@ class _Reader:
         cavity = table.get("cavity", False)
         if not isinstance(cavity, bool):
             raise self.fail(f"{key}.cavity", f"must be true or false, got {cavity!r}")
-        return PartSpec(name, key, source, self.origin(table, key), density, mass, cavity)
+        walls = self.walls(table, key, density, mass is not None, cavity)
+        return PartSpec(name, key, source, self.origin(table, key), density, mass, cavity,
+                        walls)
+
+    def walls(self, table: dict[str, Any], key: str, density: float | None, has_mass: bool,
+              cavity: bool) -> Walls | None:
+        """``shell = { thickness = T }`` and ``infill = F`` or ``{ fraction, density |
+        material }``: the interior's density as a multiple of the wall's."""
+        if SHELL not in table:
+            if INFILL in table:
+                raise self.fail(f"{key}.{INFILL}", "infill fills the inside of a shell: give "
+                                "the part a shell = { thickness = M } too (a wall thickness "
+                                "left to a guess would decide most of the mass)")
+            return None
+        if cavity:
+            raise self.fail(f"{key}.{SHELL}", "a cavity is removed material: it has no wall")
+        shell = self.table(table[SHELL], f"{key}.{SHELL}", _SHELL_KEYS)
+        if "thickness" not in shell:
+            raise self.fail(f"{key}.{SHELL}.thickness", "missing (the wall thickness, m)")
+        thickness = self.number(shell["thickness"], f"{key}.{SHELL}.thickness", "m")
+        value = table.get(INFILL, 0.0)
+        if not isinstance(value, dict):
+            return Walls(thickness, self.fraction(value, f"{key}.{INFILL}"))
+        infill = self.table(value, f"{key}.{INFILL}", _INFILL_KEYS)
+        stated = self.density(infill, f"{key}.{INFILL}")
+        if stated is None:
+            if "fraction" not in infill:
+                raise self.fail(f"{key}.{INFILL}", "give fraction (0..1), a density or a "
+                                "material")
+            return Walls(thickness, self.fraction(infill["fraction"],
+                                                  f"{key}.{INFILL}.fraction"))
+        # a fraction of its own material: needs the wall's density to weigh it against
+        fraction = self.fraction(infill.get("fraction", 1.0), f"{key}.{INFILL}.fraction")
+        if density is None:
+            why = "the part's mass is" if has_mass else "no density is"
+            raise self.fail(f"{key}.{INFILL}.{'density' if 'density' in infill else 'material'}",
+                            f"{why} given for the wall, so the infill's own density cannot be "
+                            "weighed against it: give the part a density or material, or the "
+                            "infill as a fraction of the wall's")
+        return Walls(thickness, fraction * stated / density)
+
+    def fraction(self, value: Any, key: str) -> float:
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if ok and math.isfinite(value) and 0 <= value <= 1:
+            return float(value)
+        raise self.fail(key, f"must be a fraction from 0 (hollow) to 1 (solid), got {value!r}")
 
     def point(self, name: str, table: dict[str, Any], key: str) -> PartSpec:
         others = [k for k in table if k != POINT]
