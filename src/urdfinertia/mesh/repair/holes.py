@@ -441,19 +441,26 @@ def _plan(s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple]]:
     ``(i, k)`` and ``(k, j)``, each split's triangle, the intervals ``(i, j)`` and
     their first split ``i + 1``.
     """
-    r = np.arange(s)
-    tri_i, tri_k, tri_j = (t.astype(np.int64) for t in np.nonzero(
-        (r[:, None, None] < r[None, :, None]) & (r[None, :, None] < r[None, None, :])))
-    slot = np.zeros((s, s, s), dtype=np.int64)
-    slot[tri_i, tri_k, tri_j] = np.arange(len(tri_i))
+    # the candidates in lexicographic order, and each one's rank in it by formula: the
+    # pairs (i, k) in order, each followed by its s - 1 - k triangles (an (s, s, s)
+    # table of ranks would take s^3 words)
+    pair_i, pair_k = np.triu_indices(s, 1)
+    per_pair = s - 1 - pair_k
+    pair_start = np.zeros((s, s), dtype=np.int64)
+    pair_start[pair_i, pair_k] = np.cumsum(per_pair) - per_pair
+    n_tri = int(per_pair.sum())
+    tri_i = np.repeat(pair_i, per_pair).astype(np.int64)
+    tri_k = np.repeat(pair_k, per_pair).astype(np.int64)
+    tri_j = (np.arange(n_tri) - np.repeat(pair_start[pair_i, pair_k], per_pair)
+             + tri_k + 1)
     plan = []
     for gap in range(2, s):
         i = np.arange(s - gap)[:, None]
         j = i + gap
         k = i + np.arange(1, gap)[None, :]
         i, j, k = np.broadcast_arrays(i, j, k)
-        plan.append((i * s + k, k * s + j, slot[i, k, j], i[:, 0] * s + j[:, 0],
-                     i[:, 0][None, :] + 1))
+        plan.append((i * s + k, k * s + j, pair_start[i, k] + (j - k - 1),
+                     i[:, 0] * s + j[:, 0], i[:, 0][None, :] + 1))
     for a in (tri_i, tri_k, tri_j, *(x for step in plan for x in step)):
         a.setflags(write=False)  # shared by every call through the cache
     return tri_i, tri_k, tri_j, plan
