@@ -232,9 +232,13 @@ class _Closed:
     def stated_error_bounds(self) -> tuple[float, float]:
         """Bounds on :func:`_stated_error` of :func:`_finish`'s result, without the unions.
 
-        A union gives its united bodies their summed dependence, shared out, and may leave
-        fewer bodies (each also carrying ``stitch_uncertainty``) or drop empty ones; bodies
-        whose boxes overlap no other's keep theirs. Exact when no box overlaps another.
+        A union gives the bodies it unites their summed dependence, shared out among as
+        many bodies as it leaves, each also carrying ``stitch_uncertainty``: at least one
+        per group of bodies whose boxes overlap, at most one per body given (the upper
+        bound is checked on the union's result by the caller). Bodies whose boxes overlap
+        no other's keep theirs. The lower bound assumes a union leaves no body enclosing
+        no volume (:func:`drop_empty`; a degenerate union, not seen on the corpus). Exact
+        when no box overlaps another.
         """
         u = self.stitch_uncertainty
         dep = np.array([b.dependence for b in self.bodies])
@@ -243,11 +247,15 @@ class _Closed:
         if not touch.any():
             exact = sum(b.dependence + u for b, k in zip(self.bodies, kept, strict=True) if k)
             return exact, exact
+        from scipy.sparse.csgraph import connected_components
+
         alone = ~touch.any(axis=1)
         rest = float(np.sum((dep + u)[alone & kept]))
-        unchanged = float(np.sum((dep + u)[kept]))
-        united = rest + float(np.sum(dep[~alone])) + u * int(np.count_nonzero(~alone))
-        lo, hi = rest, max(unchanged, united)
+        unchanged = float(np.sum((dep + u)[kept]))  # the union failed or removed nothing
+        shared = float(np.sum(dep[~alone]))
+        groups = connected_components(touch[~alone][:, ~alone], directed=False)[0]
+        lo = min(unchanged, rest + shared + u * groups)
+        hi = max(unchanged, rest + shared + u * int(np.count_nonzero(~alone)))
         return lo * (1 - BOUNDS_RTOL), hi * (1 + BOUNDS_RTOL)
 
 
