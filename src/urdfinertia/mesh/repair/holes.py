@@ -478,25 +478,25 @@ def _triangle_cost(points: np.ndarray, rim: np.ndarray, i: np.ndarray, k: np.nda
     pi, pk, pj = points[:, i], points[:, k], points[:, j]
     cross = np.cross(pk - pj, pi - pj)
     norm = np.linalg.norm(cross, axis=-1)
-    unit = cross / np.maximum(norm, 1e-300)[..., None]
     area_scale = scale.reshape((-1,) + (1,) * i.ndim) ** 2
     degenerate = norm <= 1e-12 * area_scale
     cost = AREA_WEIGHT * 0.5 * norm / area_scale
 
-    def angle(on: np.ndarray, edge_start: np.ndarray) -> np.ndarray:
-        """The rim angle of the triangles ``on`` (a mask over ``i``'s shape) along the
-        boundary edge starting at ``edge_start``, 0 elsewhere: only the O(s^2)
-        triangles on a boundary edge are evaluated, not all O(s^3) candidates (adding
-        the zeros is exact, so the costs are those of evaluating every one)."""
-        out = np.zeros(cost.shape)
-        cos = np.sum(unit[:, on] * rim[:, edge_start[on]], axis=-1)
-        out[:, on] = np.where(degenerate[:, on], np.pi, np.arccos(np.clip(cos, -1.0, 1.0)))
-        return out
+    def add_angle(on: np.ndarray, edge_start: np.ndarray) -> None:
+        """Add the rim angle of the triangles ``on`` (a mask over ``i``'s shape) along
+        the boundary edge starting at ``edge_start``: only the O(s^2) triangles on a
+        boundary edge are evaluated, not all O(s^3) candidates, and their unit normals
+        only (the others would add 0, which changes no bit of the costs)."""
+        unit = cross[:, on] / np.maximum(norm[:, on], 1e-300)[..., None]
+        cos = np.sum(unit * rim[:, edge_start[on]], axis=-1)
+        cost[:, on] += np.where(degenerate[:, on], np.pi,
+                                np.arccos(np.clip(cos, -1.0, 1.0)))
 
-    cost = cost + angle(k == i + 1, i) + angle(j == k + 1, k)
+    add_angle(k == i + 1, i)
+    add_angle(j == k + 1, k)
     closing = (i == 0) & (j == s - 1)  # the polygon's own closing edge (s-1 -> 0)
     if closing.any():
-        cost = cost + angle(closing, np.full_like(j, s - 1))
+        add_angle(closing, np.full_like(j, s - 1))
     return cost
 
 
