@@ -119,3 +119,26 @@ def test_seam_on_real_part(erd_dir, gap, rng):
     em, ei = _errors(got, ref)
     assert em <= 0.005 and ei <= 0.01
     assert provenance.startswith("stitched")
+
+
+def test_ambiguous_stitch_unites_only_the_repair_kept(erd_dir, monkeypatch):
+    """An ambiguous stitch compares two repairs; when the figures before the unions settle
+    which states less, only that one is united, and the result is the one uniting both
+    gives (the oracle: bounds that never settle it)."""
+    from urdfinertia.mesh.repair import pipeline, union
+
+    mesh = load_mesh(erd_dir / "robots" / "g1_description/meshes/torso_link_rev_1_0.STL")
+    calls = []
+    plain_union = union.union_bodies
+    monkeypatch.setattr(union, "union_bodies", lambda b: calls.append(1) or plain_union(b))
+    quick = repair_mesh(mesh)
+    assert len(calls) == 1  # the unstitched repair's unions only
+    monkeypatch.setattr(pipeline._Closed, "stated_error_bounds",
+                        lambda self: (-np.inf, np.inf))
+    full = repair_mesh(mesh)
+    assert len(calls) == 3  # both repairs united, as before the bounds
+    assert quick.notes == full.notes and len(quick.bodies) == len(full.bodies) > 1
+    for a, b in zip(quick.bodies, full.bodies, strict=True):
+        assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.faces, b.faces)
+        assert (a.dependence, a.provenance, a.error_estimate) == \
+            (b.dependence, b.provenance, b.error_estimate)

@@ -44,3 +44,33 @@ def test_boundary_edge_angles_only_give_the_same_costs(s):
     want = every_triangle_cost(points, rim, i, k, j, scale, s)
     assert got.shape == want.shape
     np.testing.assert_array_equal(got, want)  # bit for bit: adding zeros is exact
+
+
+def every_slot_plan(s):
+    """The interval programme's index arrays with an (s, s, s) table of candidate ranks
+    (the plain form :func:`holes._plan` computes by formula)."""
+    r = np.arange(s)
+    tri_i, tri_k, tri_j = (t.astype(np.int64) for t in np.nonzero(
+        (r[:, None, None] < r[None, :, None]) & (r[None, :, None] < r[None, None, :])))
+    slot = np.zeros((s, s, s), dtype=np.int64)
+    slot[tri_i, tri_k, tri_j] = np.arange(len(tri_i))
+    plan = []
+    for gap in range(2, s):
+        i = np.arange(s - gap)[:, None]
+        j = i + gap
+        k = i + np.arange(1, gap)[None, :]
+        i, j, k = np.broadcast_arrays(i, j, k)
+        plan.append((i * s + k, k * s + j, slot[i, k, j], i[:, 0] * s + j[:, 0],
+                     i[:, 0][None, :] + 1))
+    return tri_i, tri_k, tri_j, plan
+
+
+@pytest.mark.parametrize("s", [3, 4, 5, 8, 13, 40, 41, 77])
+def test_plan_ranks_by_formula_equal_the_table(s):
+    want, got = every_slot_plan(s), holes._plan(s)
+    for a, b in zip(want[:3], got[:3], strict=True):
+        assert a.dtype == b.dtype and np.array_equal(a, b)
+    assert len(want[3]) == len(got[3])
+    for step_a, step_b in zip(want[3], got[3], strict=True):
+        for a, b in zip(step_a, step_b, strict=True):
+            assert a.shape == b.shape and np.array_equal(a, b)

@@ -441,19 +441,26 @@ def _plan(s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple]]:
     ``(i, k)`` and ``(k, j)``, each split's triangle, the intervals ``(i, j)`` and
     their first split ``i + 1``.
     """
-    r = np.arange(s)
-    tri_i, tri_k, tri_j = (t.astype(np.int64) for t in np.nonzero(
-        (r[:, None, None] < r[None, :, None]) & (r[None, :, None] < r[None, None, :])))
-    slot = np.zeros((s, s, s), dtype=np.int64)
-    slot[tri_i, tri_k, tri_j] = np.arange(len(tri_i))
+    # the candidates in lexicographic order, and each one's rank in it by formula: the
+    # pairs (i, k) in order, each followed by its s - 1 - k triangles (an (s, s, s)
+    # table of ranks would take s^3 words)
+    pair_i, pair_k = np.triu_indices(s, 1)
+    per_pair = s - 1 - pair_k
+    pair_start = np.zeros((s, s), dtype=np.int64)
+    pair_start[pair_i, pair_k] = np.cumsum(per_pair) - per_pair
+    n_tri = int(per_pair.sum())
+    tri_i = np.repeat(pair_i, per_pair).astype(np.int64)
+    tri_k = np.repeat(pair_k, per_pair).astype(np.int64)
+    tri_j = (np.arange(n_tri) - np.repeat(pair_start[pair_i, pair_k], per_pair)
+             + tri_k + 1)
     plan = []
     for gap in range(2, s):
         i = np.arange(s - gap)[:, None]
         j = i + gap
         k = i + np.arange(1, gap)[None, :]
         i, j, k = np.broadcast_arrays(i, j, k)
-        plan.append((i * s + k, k * s + j, slot[i, k, j], i[:, 0] * s + j[:, 0],
-                     i[:, 0][None, :] + 1))
+        plan.append((i * s + k, k * s + j, pair_start[i, k] + (j - k - 1),
+                     i[:, 0] * s + j[:, 0], i[:, 0][None, :] + 1))
     for a in (tri_i, tri_k, tri_j, *(x for step in plan for x in step)):
         a.setflags(write=False)  # shared by every call through the cache
     return tri_i, tri_k, tri_j, plan
@@ -471,25 +478,25 @@ def _triangle_cost(points: np.ndarray, rim: np.ndarray, i: np.ndarray, k: np.nda
     pi, pk, pj = points[:, i], points[:, k], points[:, j]
     cross = np.cross(pk - pj, pi - pj)
     norm = np.linalg.norm(cross, axis=-1)
-    unit = cross / np.maximum(norm, 1e-300)[..., None]
     area_scale = scale.reshape((-1,) + (1,) * i.ndim) ** 2
     degenerate = norm <= 1e-12 * area_scale
     cost = AREA_WEIGHT * 0.5 * norm / area_scale
 
-    def angle(on: np.ndarray, edge_start: np.ndarray) -> np.ndarray:
-        """The rim angle of the triangles ``on`` (a mask over ``i``'s shape) along the
-        boundary edge starting at ``edge_start``, 0 elsewhere: only the O(s^2)
-        triangles on a boundary edge are evaluated, not all O(s^3) candidates (adding
-        the zeros is exact, so the costs are those of evaluating every one)."""
-        out = np.zeros(cost.shape)
-        cos = np.sum(unit[:, on] * rim[:, edge_start[on]], axis=-1)
-        out[:, on] = np.where(degenerate[:, on], np.pi, np.arccos(np.clip(cos, -1.0, 1.0)))
-        return out
+    def add_angle(on: np.ndarray, edge_start: np.ndarray) -> None:
+        """Add the rim angle of the triangles ``on`` (a mask over ``i``'s shape) along
+        the boundary edge starting at ``edge_start``: only the O(s^2) triangles on a
+        boundary edge are evaluated, not all O(s^3) candidates, and their unit normals
+        only (the others would add 0, which changes no bit of the costs)."""
+        unit = cross[:, on] / np.maximum(norm[:, on], 1e-300)[..., None]
+        cos = np.sum(unit * rim[:, edge_start[on]], axis=-1)
+        cost[:, on] += np.where(degenerate[:, on], np.pi,
+                                np.arccos(np.clip(cos, -1.0, 1.0)))
 
-    cost = cost + angle(k == i + 1, i) + angle(j == k + 1, k)
+    add_angle(k == i + 1, i)
+    add_angle(j == k + 1, k)
     closing = (i == 0) & (j == s - 1)  # the polygon's own closing edge (s-1 -> 0)
     if closing.any():
-        cost = cost + angle(closing, np.full_like(j, s - 1))
+        add_angle(closing, np.full_like(j, s - 1))
     return cost
 
 
