@@ -92,9 +92,9 @@ def check(path: str | Path, *, geometry: bool = True, statics: bool = True,
     ``result.exit_code()`` is the command line's exit code without a baseline.
     """
     from urdfinertia.analysis.check import check_description
-    from urdfinertia.link.total_mass import DEFAULT_MASS_TOLERANCE
     from urdfinertia.analysis.statics import DEFAULT_MARGIN
     from urdfinertia.descriptions.formats import read_description
+    from urdfinertia.link.total_mass import DEFAULT_MASS_TOLERANCE
 
     opts = make_options(**options)
     robot, _ = read_description(path, lenient=True)

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from scipy.spatial.transform import Rotation
 
 import urdfinertia
 from urdfinertia.analysis.hull import (
@@ -20,7 +21,6 @@ from urdfinertia.analysis.hull import (
 from urdfinertia.cli import main
 from urdfinertia.inertia.polyhedron import mesh_mass_properties
 from urdfinertia.inertia.realizable import bounding_ellipsoid, ellipsoid_scale
-from scipy.spatial.transform import Rotation
 
 FIXTURE = Path(__file__).resolve().parents[1] / "data" / "realizable" / "housing.urdf"
 #: The regular tetrahedron of circumradius R about the origin; its axis through vertex 0.

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from urdfinertia.analysis.hull import HullScale, convex_hull, hull_scale
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import (
@@ -38,7 +39,6 @@ from urdfinertia.descriptions.model import (
     Shape,
     Sphere,
 )
-from urdfinertia.analysis.hull import HullScale, convex_hull, hull_scale
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.realizable import Ellipsoid as Region
 from urdfinertia.inertia.realizable import bounding_ellipsoid, ellipsoid_scale

@@ -27,6 +27,7 @@ from rich.table import Table
 from urdfinertia.analysis.baseline import Baseline, write_baseline
 from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
 from urdfinertia.analysis.locate import CheckedFile, locate_all
+from urdfinertia.analysis.realizability import METHODS
 from urdfinertia.analysis.statics import DEFAULT_MARGIN
 from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.cli.batch import add_batch_arguments, finish_single, single_file_library
@@ -36,7 +37,6 @@ from urdfinertia.cli.options import (
     engine_request,
     positive_float,
 )
-from urdfinertia.analysis.realizability import METHODS
 from urdfinertia.descriptions.formats import is_description, read_bytes, robot_from_bytes
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.link.options import FixOptions
