@@ -221,8 +221,24 @@ class _Programme:
         self.columns = moments(self.points)
         self.lps = 0
 
+    def _seed(self, b: np.ndarray) -> None:
+        """Add the body's sigma points where the hull holds them: ``mu +- sqrt(3 l_k) v_k``
+        (``l_k``, ``v_k`` the central second moment's eigenpairs) with equal weights have
+        exactly the body's moments, so a body they fit is proved at once (a compact body
+        deep inside, which column generation alone reaches slowly)."""
+        mu = b[1:4]
+        m2 = np.array([[b[4], b[7], b[8]], [b[7], b[5], b[9]], [b[8], b[9], b[6]]])
+        lam, vec = np.linalg.eigh(m2 - np.outer(mu, mu))
+        arm = vec * np.sqrt(3.0 * np.maximum(lam, 0.0))
+        pts = np.vstack([mu + arm.T, mu - arm.T])
+        pts = pts[self.hull.contains(pts)]
+        if len(pts):
+            self.points = np.vstack([self.points, pts])
+            self.columns = np.vstack([self.columns, moments(pts)])
+
     def decide(self, b: np.ndarray) -> bool | None:
         """True: realizable (weights found); False: a certificate; None: undecided."""
+        self._seed(b)
         for _ in range(MAX_ROUNDS):
             n = len(self.columns)
             a_eq = np.hstack([self.columns.T, np.eye(10), -np.eye(10)])
