@@ -152,3 +152,13 @@ def test_check_names_the_method(capsys):
     rows = json.loads(capsys.readouterr().out)["files"][0]["findings"]
     base = [r for r in rows if r["link"] == "base" and r["rule"] == "UI210"]
     assert base and "method: convex hull" in base[0]["message"]
+
+
+def test_a_compact_body_deep_inside_is_decided():
+    """A body 1/40 of the part's size off its centroid (Baxter's gripper bases are such):
+    its sigma points prove it with one LP (column generation alone needs about 25 here,
+    and left Baxter's undecided after 60)."""
+    inertia = inertia_of(2.0 * np.diag([1.0, 2.0, 3.0]) * (R / 40) ** 2)
+    found = hull_scale(2.0, np.array([0.01, -0.005, 0.0]), inertia, convex_hull(TETRA))
+    assert found.decided and found.realizable and found.high == 1.0
+    assert found.lps == 1
