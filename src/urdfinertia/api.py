@@ -77,24 +77,32 @@ def make_options(**options: Any) -> FixOptions:
 
 @_xacro_options
 def check(path: str | Path, *, geometry: bool = True, statics: bool = True,
-          effort_margin: float | None = None, **options: Any) -> CheckResult:
+          effort_margin: float | None = None, realizable: str = "ellipsoid",
+          mass_tolerance: float | None = None, **options: Any) -> CheckResult:
     """Lint the description at ``path``: findings and what ``fix`` would do, per link.
 
     ``geometry=False`` checks the written values only (``check --no-geometry``).
     ``statics=False`` skips the joints' gravity loads (``check --no-statics``);
     ``effort_margin`` is ``--effort-margin`` (default 0.2); ``result.statics`` holds the
     total mass, whole CoM and every joint's load.
+    ``realizable="hull"`` tests the written inertials in the geometry's convex hull instead
+    of its bounding ellipsoid (``check --realizable hull``). ``total_mass=KG`` (or a spec's
+    targets) is held against the written masses within ``mass_tolerance`` (a fraction,
+    default 0.01; ``check --total-mass``, ``--mass-tolerance``).
     ``result.exit_code()`` is the command line's exit code without a baseline.
     """
     from urdfinertia.analysis.check import check_description
     from urdfinertia.analysis.statics import DEFAULT_MARGIN
     from urdfinertia.descriptions.formats import read_description
+    from urdfinertia.link.total_mass import DEFAULT_MASS_TOLERANCE
 
     opts = make_options(**options)
     robot, _ = read_description(path, lenient=True)
     margin = DEFAULT_MARGIN if effort_margin is None else effort_margin
+    tolerance = DEFAULT_MASS_TOLERANCE if mass_tolerance is None else mass_tolerance
     return check_description(robot, options=opts, geometry=geometry, statics=statics,
-                             effort_margin=margin)
+                             effort_margin=margin, realizable=realizable,
+                             mass_tolerance=tolerance)
 
 
 @_xacro_options

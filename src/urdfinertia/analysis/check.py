@@ -59,6 +59,14 @@ from urdfinertia.link.plausibility import (  # noqa: F401  (re-exported: check's
     value_findings,
 )
 from urdfinertia.link.results import LinkResult, Status
+from urdfinertia.link.total_mass import (
+    DEFAULT_MASS_TOLERANCE,
+    MassTargetError,
+    mass_targets,
+    meet_targets,
+    target_findings,
+    untargeted,
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,14 +125,22 @@ def check_robot(robot: Robot, *, meshes: MeshLibrary | None = None,
 def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
                       options: FixOptions | None = None,
                       geometry: bool = True, statics: bool = True,
-                      effort_margin: float = DEFAULT_MARGIN) -> CheckResult:
+                      effort_margin: float = DEFAULT_MARGIN, realizable: str = "ellipsoid",
+                      mass_tolerance: float = DEFAULT_MASS_TOLERANCE) -> CheckResult:
     """``check`` of a robot already read: findings and every link's verdict.
 
     With ``statics`` (the default) every joint's gravity load over its range is held
     against its effort limit (:mod:`urdfinertia.analysis.statics`): an error when it
     exceeds it, a warning within ``effort_margin`` of it.
+    ``realizable`` is the region UI210 tests the written inertials in: "ellipsoid" (the
+    geometry's bounding ellipsoid) or "hull" (its convex hull; slower).
+    Target masses (``options.total_mass``, the spec's ``total_mass`` and ``[subtree.NAME]
+    mass``) are held against the written masses: UI703 beyond ``mass_tolerance`` (a
+    fraction); the plan is ``fix``'s with the targets, or without them where ``fix``
+    would refuse them (the finding says so).
     """
     options = options or FixOptions()
+    targeted = bool(mass_targets(robot, options))
     kin = Kinematics(robot)
     urdf_dir = robot.path.parent if robot.path is not None else Path(".")
     path = robot.path or Path("robot.urdf")
@@ -133,8 +149,14 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
     if geometry:
         if meshes is None:
             meshes = mesh_library(options.package_dirs, options.max_faces)
-        links = link_verdicts(robot, options, meshes)
-        realizing = robot_realizability(robot.links, meshes, urdf_dir)
+        links = link_verdicts(robot, untargeted(options) if targeted else options, meshes)
+        if targeted:
+            findings.extend(target_findings(robot, links, options, mass_tolerance))
+            try:
+                links = meet_targets(robot, links, options)[0]
+            except MassTargetError:
+                pass  # fix refuses the target: its plan without it (the finding says so)
+        realizing = robot_realizability(robot.links, meshes, urdf_dir, realizable)
         for r in links:
             findings.extend(r.findings)
             findings.extend(f for f in realizing if f.link == r.name)
@@ -146,6 +168,8 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
         for link in robot.links:
             findings.extend(value_findings(link, kin, robot))
             findings.extend(reference_findings(link, options, urdf_dir))
+        if targeted:
+            findings.extend(target_findings(robot, (), options, mass_tolerance))
     for group in kin.groups.values():
         findings.extend(lumped_findings(group, robot))
     held = None

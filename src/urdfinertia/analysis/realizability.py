@@ -8,6 +8,10 @@ that ellipsoid, a written inertial that fails the test cannot belong to the geom
 however its mass is spread; the finding says by how much the ellipsoid would have to grow
 (its scale about its centre) to hold it.
 
+With ``method="hull"`` the region is the geometry's convex hull instead, a tighter one
+(:mod:`urdfinertia.analysis.hull`: an LP with HiGHS, a proof either way, slower); the
+finding then reports the scale of the hull about its centroid.
+
 Also here: for links without geometry, the radius of gyration their tensor implies
 (``sqrt(trace / 2m)``, the RMS distance of the mass from the CoM), which no robot link
 has beyond :data:`GYRATION_LIMIT`.
@@ -20,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from urdfinertia.analysis.hull import HullScale, convex_hull, hull_scale
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import (
@@ -56,6 +61,10 @@ SCALE_ERROR = 3.0
 #: implausible: no robot link spreads its mass RMS a metre from its CoM.
 GYRATION_LIMIT = 1.0
 
+#: The regions a link's inertial can be tested in: the geometry's bounding ellipsoid (exact,
+#: no solver: the default), or its convex hull (an LP; slower).
+METHODS = ("ellipsoid", "hull")
+
 #: Polygon sides of the circumscribed prisms standing in for round primitives.
 _SIDES = 24
 
@@ -67,15 +76,33 @@ class Realizability:
     scale : the scale of ``ellipsoid`` (about its centre) that would just hold the
         written body; <= 1: realizable in it; inf: by no nonnegative density at all.
     ellipsoid : the minimum-volume ellipsoid of the link's geometry, link frame.
+    hull : with ``method="hull"``, the scale of the geometry's convex hull about its
+        centroid that would just hold the body, bracketed (None: not asked for, or the
+        body is realizable nowhere).
     """
 
     link: str
     scale: float
     ellipsoid: Region
+    hull: HullScale | None = None
+
+    @property
+    def method(self) -> str:
+        return "ellipsoid" if self.hull is None else "hull"
 
     @property
     def realizable(self) -> bool:
+        """No finding: within :data:`SCALE_WARN` of the region (for the hull: not proved
+        to need more)."""
+        if self.hull is not None:
+            return self.hull.low <= SCALE_WARN
         return self.scale <= SCALE_WARN
+
+    @property
+    def needed(self) -> float:
+        """The scale the finding reports: the ellipsoid's, or the hull's bracket's upper
+        end (its proved lower end when no upper one was found)."""
+        return self.scale if self.hull is None else self.hull.scale
 
 
 def _ring(radius: float, z: float) -> np.ndarray:
@@ -142,9 +169,10 @@ def geometry_points(refs: tuple[GeometryRef, ...], cache: BoundsCache,
 
 
 def link_realizability(link: Link, cache: BoundsCache, urdf_dir: Path,
-                       ) -> Realizability | None:
+                       method: str = "ellipsoid") -> Realizability | None:
     """The test for ``link`` (None: no geometry, or a written inertial that is not a body
     with positive finite mass, or a placeholder tensor: the value checks report those).
+    ``method``: one of :data:`METHODS`.
 
     Raises UrdfInertiaError when a mesh cannot be read.
     """
@@ -156,20 +184,26 @@ def link_realizability(link: Link, cache: BoundsCache, urdf_dir: Path,
         return None
     if not np.any(raw.inertia) or is_placeholder(raw.inertia):
         return None  # a point mass or a placeholder: the value checks report it
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     points = geometry_points(refs, cache, urdf_dir)
     region = bounding_ellipsoid(points)
-    return Realizability(link.name, ellipsoid_scale(raw.mass, raw.com, raw.inertia, region),
-                         region)
+    scale = ellipsoid_scale(raw.mass, raw.com, raw.inertia, region)
+    hull = None
+    if method == "hull" and np.isfinite(scale):
+        hull = hull_scale(raw.mass, raw.com, raw.inertia, convex_hull(points))
+    return Realizability(link.name, scale, region, hull)
 
 
 def realizability_findings(link: Link, cache: BoundsCache, urdf_dir: Path,
-                           ) -> list[Finding]:
-    """UI210 when the written inertial needs mass outside the link's geometry; UI211 when a
-    link without geometry has an implausible radius of gyration."""
+                           method: str = "ellipsoid") -> list[Finding]:
+    """UI210 when the written inertial needs mass outside the link's geometry (its bounding
+    ellipsoid, or with ``method="hull"`` its convex hull); UI211 when a link without
+    geometry has an implausible radius of gyration."""
     if not (link.collisions or link.visuals):
         return gyration_findings(link)
     try:
-        found = link_realizability(link, cache, urdf_dir)
+        found = link_realizability(link, cache, urdf_dir, method)
     except (UrdfInertiaError, ValueError):
         return []  # unreadable geometry: the geometry checks report it
     if found is None or found.realizable:
@@ -179,11 +213,20 @@ def realizability_findings(link: Link, cache: BoundsCache, urdf_dir: Path,
     if not np.isfinite(found.scale):
         return []  # no density anywhere: the triangle inequality finding says so
     far = (": the mass would lie outside the part by several of its sizes"
-           if found.scale > SCALE_ERROR else "")
+           if found.needed > SCALE_ERROR else "")
+    if found.hull is None:
+        return [Finding(link.name, "warning", "not-realizable",
+                        f"no mass inside the geometry gives this inertial: its bounding "
+                        f"ellipsoid (axes {axes} m) would have to be {found.scale:.3g}x as "
+                        f"large to hold a body with the written CoM and tensor{far}", line)]
+    h = found.hull
+    bracket = (f"between {h.low:.4g}x and {h.high:.4g}x" if np.isfinite(h.high)
+               else f"more than {h.low:.4g}x")
     return [Finding(link.name, "warning", "not-realizable",
-                    f"no mass inside the geometry gives this inertial: its bounding ellipsoid "
-                    f"(axes {axes} m) would have to be {found.scale:.3g}x as large to hold "
-                    f"a body with the written CoM and tensor{far}", line)]
+                    f"no mass inside the geometry's convex hull gives this inertial (method: "
+                    f"convex hull, an LP certificate, HiGHS): the hull would have to be "
+                    f"{bracket} as large about its centroid to hold a body with the written "
+                    f"CoM and tensor{far}", line)]
 
 
 def gyration_findings(link: Link) -> list[Finding]:
@@ -204,10 +247,10 @@ def gyration_findings(link: Link) -> list[Finding]:
 
 
 def robot_realizability(links: tuple[Link, ...], meshes: MeshLibrary,
-                        urdf_dir: Path) -> list[Finding]:
+                        urdf_dir: Path, method: str = "ellipsoid") -> list[Finding]:
     """:func:`realizability_findings` of every link, in link order."""
     cache = BoundsCache(meshes)
     out: list[Finding] = []
     for link in links:
-        out.extend(realizability_findings(link, cache, urdf_dir))
+        out.extend(realizability_findings(link, cache, urdf_dir, method))
     return out

@@ -27,6 +27,7 @@ from rich.table import Table
 from urdfinertia.analysis.baseline import Baseline, write_baseline
 from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
 from urdfinertia.analysis.locate import CheckedFile, locate_all
+from urdfinertia.analysis.realizability import METHODS
 from urdfinertia.analysis.statics import DEFAULT_MARGIN
 from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.cli.batch import add_batch_arguments, finish_single, single_file_library
@@ -34,10 +35,13 @@ from urdfinertia.cli.options import (
     add_engine_arguments,
     add_geometry_source_arguments,
     engine_request,
+    positive_float,
 )
 from urdfinertia.descriptions.formats import is_description, read_bytes, robot_from_bytes
+from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.link.options import FixOptions
 from urdfinertia.link.slips import slip_fixes
+from urdfinertia.link.total_mass import DEFAULT_MASS_TOLERANCE
 from urdfinertia.render.annotations import annotation_lines
 from urdfinertia.render.sarif import sarif_document
 
@@ -80,6 +84,25 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--effort-margin", type=float, default=DEFAULT_MARGIN, metavar="FRACTION",
                    help="warn when a joint's gravity load exceeds (1 - FRACTION) of its "
                         "effort limit (default: %(default)s)")
+    p.add_argument("--realizable", choices=METHODS, default="ellipsoid",
+                   help="the region UI210 holds each written inertial in: the geometry's "
+                        "bounding ellipsoid (exact, fast) or its convex hull (an LP with "
+                        "HiGHS: tighter, slower) (default: %(default)s)")
+    p.add_argument("--total-mass", type=positive_float, metavar="KG",
+                   help="what the robot is known to weigh (a datasheet's figure): warn "
+                        "(UI703) when the written masses miss it by more than "
+                        "--mass-tolerance, and plan fix --total-mass KG")
+    p.add_argument("--scale-kept", action="store_true",
+                   help="with --total-mass (or a spec's targets): plan fix --scale-kept, "
+                        "which scales kept masses too")
+    p.add_argument("--mass-tolerance", type=positive_float, default=DEFAULT_MASS_TOLERANCE,
+                   metavar="FRACTION",
+                   help="a written total within this fraction of its target is no finding "
+                        "(default: %(default)s)")
+    p.add_argument("--spec", type=Path, metavar="TOML",
+                   help="decomposition spec: its parts plan the links as fix --spec does; "
+                        "its total_mass and [subtree.NAME] mass are held against the "
+                        "written masses (UI703)")
     add_engine_arguments(p)
     add_geometry_source_arguments(p)
     p.add_argument("--no-slips", action="store_true",
@@ -106,8 +129,16 @@ def unverified_unknown(cf: CheckedFile) -> bool:
 
 
 def run(args: argparse.Namespace) -> int:
+    spec = None
+    if args.spec is not None:
+        from urdfinertia.link.spec import load_spec
+
+        spec = load_spec(args.spec)
+    if args.total_mass is not None and len(args.urdf) > 1:  # a datasheet's figure: one robot
+        raise UrdfInertiaError("--total-mass takes a single description")
     options = FixOptions(geometry=args.geometry, package_dirs=dict(args.package_dir),
-                         max_faces=args.max_faces, slips=not args.no_slips)
+                         max_faces=args.max_faces, slips=not args.no_slips, spec=spec,
+                         total_mass=args.total_mass, scale_kept=args.scale_kept)
     # the meshes in parallel with -j (default: the cores), through the persistent cache
     meshes = None if args.no_geometry else single_file_library(args, options, list(args.urdf))
     baseline = (Baseline.load(args.baseline) if args.baseline is not None
@@ -123,7 +154,9 @@ def run(args: argparse.Namespace) -> int:
         result = check_description(robot, meshes=meshes, options=options,
                                    geometry=meshes is not None,
                                    statics=not args.no_statics,
-                                   effort_margin=args.effort_margin)
+                                   effort_margin=args.effort_margin,
+                                   realizable=args.realizable,
+                                   mass_tolerance=args.mass_tolerance)
         findings = list(result.findings)
         if engines is not None:
             findings += engines.findings(path, robot, options.package_dirs)

@@ -148,7 +148,7 @@ def bounding_ellipsoid(points: ArrayLike, tol: float = 1e-2) -> Ellipsoid:
     if p.shape[0] == 0 or not np.all(np.isfinite(p)):
         raise ValueError(f"need finite (n, 3) points, got shape {p.shape}")
     mean = p.mean(axis=0)
-    centred = _padded(p - mean)
+    centred = full_dimensional(p - mean)
     centre, shape = _khachiyan(centred, tol)
     r2 = _radii2(centred, centre, shape)
     shape = shape / max(float(r2.max()), 1e-300)  # grow (or shrink) to hold every point
@@ -160,8 +160,9 @@ def _radii2(points: np.ndarray, centre: np.ndarray, shape: np.ndarray) -> np.nda
     return np.asarray(np.einsum("ij,jk,ik->i", d, shape, d))
 
 
-def _padded(centred: np.ndarray) -> np.ndarray:
-    """``centred`` plus points off its span when it spans fewer than three dimensions."""
+def full_dimensional(centred: np.ndarray) -> np.ndarray:
+    """``centred`` (points about their mean) plus points ``1e-9`` of their extent off their
+    span when they span fewer than three dimensions: a set with a full-dimensional hull."""
     extent = max(float(np.abs(centred).max()), 1e-12)
     eig, vec = np.linalg.eigh(centred.T @ centred)  # the spread along each direction
     thin = extent * 1e-9

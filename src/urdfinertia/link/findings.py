@@ -116,6 +116,8 @@ RULES: dict[str, Rule] = _rules(
      "a joint's effort limit is below the gravity torque it must hold over its range"),
     ("UI702", "joint-effort-margin", "link", "warning",
      "a joint's gravity torque is within the margin of its effort limit"),
+    ("UI703", "total-mass-mismatch", "robot", "warning",
+     "the written masses of the robot (or a subtree) miss its known total"),
 )
 
 

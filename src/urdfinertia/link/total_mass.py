@@ -9,6 +9,9 @@ tensor scales with its mass (the same density scaled: same CoM, same shape).
 Targets nest: the innermost subtree is settled first, and its links then count as fixed
 mass for the targets around it. A target that the fixed masses alone reach or exceed, or
 one with nothing to scale, is refused (:class:`MassTargetError`): nothing is written.
+
+``check`` holds the written masses against the same targets (:func:`target_findings`,
+UI703 ``total-mass-mismatch``).
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.link.findings import Finding
 from urdfinertia.link.results import LinkResult, Status
 
 if TYPE_CHECKING:
@@ -208,3 +212,91 @@ def _scaled(r: LinkResult, k: float) -> LinkResult:
                           MassSource("kept", before.mass * k)),
         kept=kept, derived=("mass", "tensor"),
         decision=f"{r.decision}; {note}" if r.decision else note)
+
+
+# --- check: the written masses against the targets ------------------------------------
+
+#: A written mass within this fraction of its target is no finding (``check
+#: --mass-tolerance``): a datasheet's total is rarely given to better than a percent.
+DEFAULT_MASS_TOLERANCE = 0.01
+
+
+def untargeted(options: FixOptions) -> FixOptions:
+    """``options`` without any target mass (the verdicts ``fix`` would reach without them)."""
+    spec = options.spec
+    if spec is not None and spec.has_targets:
+        spec = dataclasses.replace(spec, total_mass=None, subtree_masses={})
+    return dataclasses.replace(options, total_mass=None, spec=spec)
+
+
+def written_masses(robot: Robot) -> dict[str, float]:
+    """Each link's written mass where it is a usable one (positive, finite), kg."""
+    from urdfinertia.descriptions.inertial import RawInertial
+
+    out = {}
+    for link in robot.links:
+        if link.inertial is not None:
+            raw = RawInertial.from_inertial(link.inertial)
+            if raw.mass_ok and _usable(raw.mass) > 0:
+                out[link.name] = raw.mass
+    return out
+
+
+def _names(names: Sequence[str], most: int = 4) -> str:
+    shown = ", ".join(names[:most])
+    return shown + (f", ... ({len(names)} in all)" if len(names) > most else "")
+
+
+def target_findings(robot: Robot, results: Sequence[LinkResult], options: FixOptions,
+                    tolerance: float = DEFAULT_MASS_TOLERANCE) -> list[Finding]:
+    """UI703 ``total-mass-mismatch`` for each target the written masses miss by more than
+    ``tolerance`` (a fraction of the target): written, target, difference, which links
+    ``fix`` derives and which it keeps, and what ``fix`` with the target would do.
+
+    ``results`` are the verdicts without the targets (:func:`untargeted`); empty when the
+    geometry was not read (then only the written figures are given).
+    """
+    targets = mass_targets(robot, options)
+    if not targets:
+        return []
+    written = written_masses(robot)
+    outcomes: tuple[TargetOutcome, ...] = ()
+    refusal = None
+    if results:
+        try:
+            outcomes = meet_targets(robot, results, options)[1]
+        except MassTargetError as exc:
+            refusal = exc.cause
+    by_name = {r.name: r for r in results}
+    out = []
+    for i, t in enumerate(targets):
+        members = [link.name for link in robot.links if link.name in t.links]
+        total = sum(written.get(n, 0.0) for n in members)
+        diff = total - t.mass
+        if abs(diff) <= tolerance * t.mass:
+            continue
+        where = "the robot's links" if t.name is None else f"subtree '{t.name}'"
+        source = ("--total-mass" if t.name is None and options.total_mass is not None
+                  else "the spec")
+        side = "over" if diff > 0 else "under"
+        text = (f"{where} weigh {total:.6g} kg as written, {abs(diff):.4g} kg "
+                f"({abs(diff) / t.mass:.2%}) {side} the target {t.mass:.6g} kg ({source}; "
+                f"tolerance {tolerance:.2%})")
+        if results:
+            derived = [n for n in members if n in by_name and "mass" in by_name[n].derived
+                       and _output(by_name[n]) > 0]
+            kept = [n for n in members if n in written and n not in derived]
+            text += (f"; fix derives the mass of {len(derived)} link(s)"
+                     f"{' (' + _names(derived) + ')' if derived else ''} and keeps "
+                     f"{len(kept)}")
+            unscaled = sum(_output(by_name[n]) for n in members if n in by_name)
+            if abs(unscaled - total) > MET_RTOL * t.mass:
+                text += f"; without the target fix would write {unscaled:.6g} kg"
+            if refusal is not None:
+                text += f"; fix with the target refuses: {refusal}"
+            elif i < len(outcomes) and outcomes[i].scaled:
+                o = outcomes[i]
+                text += (f"; fix with the target scales {len(o.scaled)} link(s) "
+                         f"x{o.factor:.6g}")
+        out.append(Finding(t.name, "warning", "total-mass-mismatch", text))
+    return out
