@@ -10,6 +10,9 @@ tensor about the CoM grows with the distance between the solid's centroid and th
   geometry integrated (primitive stand-ins, convex hull, detailed mesh), its role
   (collision or visual) and the centroid-to-CoM offset, as a fraction of the geometry's
   bounding-box diagonal;
+- when the geometry needs an implied density (kept mass over its volume) above
+  :data:`DENSE` to hold the kept mass, it likely misses volume (open shells, parts not
+  drawn) and the band is that of such links, whatever the offset;
 - when the CoM is derived too, nothing tells how uneven the link is, and the band is the
   spread of the homogeneous model over all links.
 
@@ -34,7 +37,7 @@ OFFSET_EDGES = (0.001, 0.03, 0.08)
 #: (p90) whose coverage, cross-validated by package, is nearest :data:`BAND_LEVEL`
 #: (80.5 %; docs: the error bar). Cells with fewer than 12 links are left out and take
 #: the coarser cell's band.
-BANDS: dict[tuple[str | None, str | None, int], float] = {
+BANDS: dict[tuple[str | None, str | None, int | None], float] = {
     ("mesh", "collision", 1): 1.25,
     ("mesh", "collision", 2): 0.38,
     ("mesh", "visual", 0): 0.67,
@@ -52,6 +55,13 @@ BANDS: dict[tuple[str | None, str | None, int], float] = {
     (None, None, 2): 1.00,
     (None, None, 3): 0.83,
 }
+#: kg/m^3: a geometry that needs a density above this to hold the kept mass would be
+#: denser than solid titanium throughout; a link of aluminium, steel and plastic with air
+#: inside is lighter, so its volume is likely short of the body's. Chosen from materials,
+#: not fitted; such links get the band of :data:`DENSE_CELL`.
+DENSE = 4500.0
+#: The :data:`BANDS` key of links whose implied density is above :data:`DENSE`.
+DENSE_CELL: tuple[str | None, str | None, int | None] = ("dense", None, None)
 #: 80th percentile of the error when the CoM is derived too (only 6 such links measured;
 #: a wider set of 846 links gave p75 47 %, p90 76 %).
 MODEL_P80 = 0.81
@@ -75,18 +85,25 @@ class ErrorBar:
     basis: str
     offset: float | None = None
     kind: str | None = None
+    density: float | None = None
 
     def __str__(self) -> str:
         from urdfinertia.link.geometry_choice import KIND_WORDS
 
         what = f"{KIND_WORDS[self.kind]}, " if self.kind is not None else ""
-        why = (f"{what}centroid {100 * self.offset:.1f} % of the box diagonal from the "
-               "kept CoM" if self.offset is not None else "homogeneous model, CoM not known")
+        if self.basis == "density" and self.density is not None:
+            why = (f"{what}implied density {self.density:.0f} kg/m³: the geometry may miss "
+                   "volume")
+        elif self.offset is not None:
+            why = f"{what}centroid {100 * self.offset:.1f} % of the box diagonal from the " \
+                "kept CoM"
+        else:
+            why = "homogeneous model, CoM not known"
         return f"tensor within ±{100 * self.band:.0f} % of CAD ({100 * BAND_LEVEL:.0f} %: {why})"
 
     def as_dict(self) -> dict[str, object]:
         return {"band": self.band, "level": BAND_LEVEL, "basis": self.basis,
-                "offset": self.offset, "kind": self.kind}
+                "offset": self.offset, "kind": self.kind, "density": self.density}
 
 
 def offset_bin(offset: float) -> int:
@@ -102,9 +119,18 @@ def band_key(kind: str | None, role: str | None) -> tuple[str | None, str | None
     return kind, None if role is None else ("visual" if role == "visual" else "collision")
 
 
-def lookup_band(bands: dict[tuple[str | None, str | None, int], float], kind: str | None,
-                role: str | None, offset: float) -> float:
-    """The band of the finest cell of ``bands`` holding (kind, role, offset bin)."""
+def is_dense(density: float | None) -> bool:
+    """Whether an implied density (kg/m^3; None: no mass kept) is above :data:`DENSE`."""
+    return density is not None and density > DENSE
+
+
+def lookup_band(bands: dict[tuple[str | None, str | None, int | None], float],
+                kind: str | None, role: str | None, offset: float,
+                density: float | None = None) -> float:
+    """The band of the finest cell of ``bands`` holding (kind, role, offset bin); a dense
+    geometry (:func:`is_dense`) takes :data:`DENSE_CELL` when calibrated."""
+    if is_dense(density) and DENSE_CELL in bands:
+        return bands[DENSE_CELL]
     kind, role = band_key(kind, role)
     b = offset_bin(offset)
     for key in ((kind, role, b), (kind, None, b), (None, None, b)):
@@ -114,7 +140,8 @@ def lookup_band(bands: dict[tuple[str | None, str | None, int], float], kind: st
 
 
 def tensor_error_bar(centroid_offset: float | None, diagonal: float | None,
-                     kind: str | None = None, role: str | None = None) -> ErrorBar:
+                     kind: str | None = None, role: str | None = None,
+                     density: float | None = None) -> ErrorBar:
     """The error bar of a derived tensor.
 
     Parameters
@@ -127,9 +154,12 @@ def tensor_error_bar(centroid_offset: float | None, diagonal: float | None,
     kind, role : str or None
         The kind of geometry integrated ("primitive", "hull", "mesh") and its role
         ("collision", "visual", "geom"); None when not known.
+    density : float or None
+        The kept mass over the geometry's volume, kg/m^3; None when no mass is kept.
     """
     if centroid_offset is None or diagonal is None or not (
             math.isfinite(diagonal) and diagonal > 0):
-        return ErrorBar(MODEL_P80, "model", kind=kind)
+        return ErrorBar(MODEL_P80, "model", kind=kind, density=density)
     rel = centroid_offset / diagonal
-    return ErrorBar(lookup_band(BANDS, kind, role, rel), "offset", rel, kind)
+    basis = "density" if is_dense(density) and DENSE_CELL in BANDS else "offset"
+    return ErrorBar(lookup_band(BANDS, kind, role, rel, density), basis, rel, kind, density)
