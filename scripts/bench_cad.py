@@ -70,6 +70,10 @@ MIN_CELL = 12
 QUANTILES = (0.80, 0.85, 0.90)
 #: Packages with at least this many links are judged on their own coverage.
 BIG_PACKAGE = 10
+#: The targets of the cross-validated coverage: pooled, and the floor of every package of
+#: at least :data:`BIG_PACKAGE` links.
+POOLED_TARGET = (0.75, 0.85)
+PACKAGE_FLOOR = 0.60
 
 
 def packages() -> dict[str, list[Path]]:
@@ -332,25 +336,34 @@ def cross_validated(samples: list[Sample], quantile: float) -> dict[str, list[bo
 
 def calibrate(samples: list[Sample]) -> float:
     """Print the cross-validated coverage per package for a few fitting quantiles; return
-    the quantile whose pooled coverage is nearest the stated level."""
+    the lowest (narrowest bands) that meets the targets (:data:`POOLED_TARGET` pooled, no
+    package of at least :data:`BIG_PACKAGE` links below :data:`PACKAGE_FLOOR`), else the
+    one whose pooled coverage is nearest the stated level."""
     print(f"\ncross-validation by package (bands fitted on the other packages), stated level "
           f"{BAND_LEVEL:.0%}, offset bins {OFFSET_EDGES}, cells of at least {MIN_CELL}, "
           f"dense above {DENSE:.0f} kg/m3:")
-    best, best_gap = BAND_LEVEL, np.inf
+    nearest, gap = BAND_LEVEL, np.inf
+    meets: list[float] = []
     for quantile in QUANTILES:
         cv = cross_validated(samples, quantile)
-        pooled = [x for v in cv.values() for x in v]
+        pooled = float(np.mean([x for v in cv.values() for x in v]))
         per = ", ".join(f"{p} {np.mean(v):.0%} (n={len(v)})" for p, v in cv.items())
-        big = {p: np.mean(v) for p, v in cv.items() if len(v) >= BIG_PACKAGE}
+        big = {p: float(np.mean(v)) for p, v in cv.items() if len(v) >= BIG_PACKAGE}
         low = min(big, key=big.__getitem__) if big else None
-        print(f"  fitted at p{100 * quantile:.0f}: pooled {np.mean(pooled):.1%}; {per}")
+        print(f"  fitted at p{100 * quantile:.0f}: pooled {pooled:.1%}; {per}")
         if low is not None:
             print(f"    lowest of the {len(big)} packages of at least {BIG_PACKAGE} links: "
                   f"{low} {big[low]:.0%}")
-        if abs(np.mean(pooled) - BAND_LEVEL) < best_gap:
-            best, best_gap = quantile, abs(np.mean(pooled) - BAND_LEVEL)
-    print(f"  nearest the stated level: fitted at p{100 * best:.0f}")
-    return best
+        if POOLED_TARGET[0] <= pooled <= POOLED_TARGET[1] and (
+                low is None or big[low] >= PACKAGE_FLOOR):
+            meets.append(quantile)
+        if abs(pooled - BAND_LEVEL) < gap:
+            nearest, gap = quantile, abs(pooled - BAND_LEVEL)
+    if meets:
+        print(f"  the lowest that meets the targets: fitted at p{100 * min(meets):.0f}")
+        return min(meets)
+    print(f"  none meets the targets; nearest the stated level: fitted at p{100 * nearest:.0f}")
+    return nearest
 
 
 def print_bands(samples: list[Sample], quantile: float) -> None:

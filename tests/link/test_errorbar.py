@@ -67,9 +67,27 @@ def test_a_dense_geometry_takes_the_dense_band_whatever_its_offset():
 
 def test_error_bar_of_a_dense_geometry_says_so():
     bar = tensor_error_bar(0.01, 1.0, "mesh", "visual", density=10000.0)
-    if DENSE_CELL in BANDS:
-        assert bar.basis == "density" and bar.band == BANDS[DENSE_CELL]
-        assert "implied density 10000 kg/m³" in str(bar)
+    assert bar.basis == "density" and bar.band == BANDS[DENSE_CELL]
+    assert "implied density 10000 kg/m³" in str(bar)
     assert bar.as_dict()["density"] == 10000.0
     light = tensor_error_bar(0.01, 1.0, "mesh", "visual", density=2000.0)
     assert light.basis == "offset" and "centroid 1.0 %" in str(light)
+
+
+def test_fix_gives_a_dense_geometry_the_dense_band():
+    from pathlib import Path
+
+    from urdfinertia.link.fix import fix_file
+    from urdfinertia.link.options import FixOptions
+
+    result = fix_file(Path(__file__).parents[1] / "data" / "geometry" / "dense.urdf",
+                      FixOptions())
+    housing, arm = result.link("housing"), result.link("arm")
+    # 5 kg in a 0.1 x 0.1 x 0.05 m box: 10000 kg/m^3
+    assert housing.error_bar.density == pytest.approx(10000.0)
+    assert housing.error_bar.basis == "density"
+    assert housing.error_bar.band == BANDS[DENSE_CELL]
+    assert "implied density 10000 kg/m³" in str(housing.error_bar)
+    # 2 kg in 0.2 x 0.1 x 0.05 m: 2000 kg/m^3, read from its kind and offset
+    assert arm.error_bar.basis == "offset" and arm.error_bar.density == pytest.approx(2000.0)
+    assert arm.error_bar.band < housing.error_bar.band

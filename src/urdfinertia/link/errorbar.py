@@ -11,8 +11,9 @@ tensor about the CoM grows with the distance between the solid's centroid and th
   (collision or visual) and the centroid-to-CoM offset, as a fraction of the geometry's
   bounding-box diagonal;
 - when the geometry needs an implied density (kept mass over its volume) above
-  :data:`DENSE` to hold the kept mass, it likely misses volume (open shells, parts not
-  drawn) and the band is that of such links, whatever the offset;
+  :data:`~urdfinertia.link.geometry_choice.DENSE` (solid titanium) to hold the kept mass,
+  it likely misses volume (open shells, parts not drawn) and the band is that of such
+  links, whatever the offset (:data:`DENSE_CELL`);
 - when the CoM is derived too, nothing tells how uneven the link is, and the band is the
   spread of the homogeneous model over all links.
 
@@ -26,40 +27,48 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from urdfinertia.link.geometry_choice import DENSE
+
 #: Upper edges of the centroid-to-CoM offset bins, fractions of the box diagonal. The
 #: first bin is a centroid on the kept CoM (the tensor was likely computed from this very
 #: geometry, :data:`urdfinertia.link.geometry_choice.CENTROID_MATCH`).
 OFFSET_EDGES = (0.001, 0.03, 0.08)
 #: The band of the relative tensor error by (kind of geometry, role, offset bin): kind as
 #: :data:`urdfinertia.link.geometry_choice.KINDS`, role "collision" or "visual" (None:
-#: every role), bin as :func:`offset_bin`; (None, None, bin) is every kind. Fitted by
-#: ``scripts/bench_cad.py --calibrate`` on 164 CAD links of 9 packages at the quantile
-#: (p90) whose coverage, cross-validated by package, is nearest :data:`BAND_LEVEL`
-#: (80.5 %; docs: the error bar). Cells with fewer than 12 links are left out and take
-#: the coarser cell's band.
+#: every role), bin as :func:`offset_bin`; (None, None, bin) is every kind;
+#: :data:`DENSE_CELL` is every dense geometry. Fitted by ``scripts/bench_cad.py
+#: --calibrate`` on 668 CAD links of 10 packages at the lowest quantile (p85) whose
+#: coverage, cross-validated by package, meets the targets (83.1 % pooled, no package of
+#: 10 links or more below 60 %; docs: the error bar). Cells with fewer than 12 links are
+#: left out and take the coarser cell's band.
 BANDS: dict[tuple[str | None, str | None, int | None], float] = {
-    ("mesh", "collision", 1): 1.25,
-    ("mesh", "collision", 2): 0.38,
-    ("mesh", "visual", 0): 0.67,
-    ("mesh", "visual", 1): 0.30,
-    ("mesh", "visual", 2): 1.05,
-    ("mesh", "visual", 3): 0.84,
-    ("mesh", None, 0): 0.79,
-    ("mesh", None, 1): 0.82,
-    ("mesh", None, 2): 1.02,
-    ("mesh", None, 3): 0.84,
-    ("primitive", "collision", 0): 0.59,
-    ("primitive", None, 0): 0.64,
-    (None, None, 0): 0.74,
-    (None, None, 1): 0.82,
-    (None, None, 2): 1.00,
-    (None, None, 3): 0.83,
+    ("dense", None, None): 1.43,
+    ("hull", "collision", 1): 0.58,
+    ("hull", "collision", 2): 0.58,
+    ("hull", None, 1): 0.58,
+    ("hull", None, 2): 0.43,
+    ("hull", None, 3): 0.46,
+    ("mesh", "collision", 0): 0.18,
+    ("mesh", "collision", 1): 0.74,
+    ("mesh", "collision", 2): 0.67,
+    ("mesh", "collision", 3): 0.79,
+    ("mesh", "visual", 0): 0.69,
+    ("mesh", "visual", 1): 0.48,
+    ("mesh", "visual", 2): 0.69,
+    ("mesh", "visual", 3): 0.90,
+    ("mesh", None, 0): 0.46,
+    ("mesh", None, 1): 0.60,
+    ("mesh", None, 2): 0.68,
+    ("mesh", None, 3): 0.89,
+    ("primitive", "collision", 0): 0.58,
+    ("primitive", "collision", 3): 0.73,
+    ("primitive", None, 0): 0.57,
+    ("primitive", None, 3): 0.73,
+    (None, None, 0): 0.50,
+    (None, None, 1): 0.58,
+    (None, None, 2): 0.68,
+    (None, None, 3): 0.78,
 }
-#: kg/m^3: a geometry that needs a density above this to hold the kept mass would be
-#: denser than solid titanium throughout; a link of aluminium, steel and plastic with air
-#: inside is lighter, so its volume is likely short of the body's. Chosen from materials,
-#: not fitted; such links get the band of :data:`DENSE_CELL`.
-DENSE = 4500.0
 #: The :data:`BANDS` key of links whose implied density is above :data:`DENSE`.
 DENSE_CELL: tuple[str | None, str | None, int | None] = ("dense", None, None)
 #: 80th percentile of the error when the CoM is derived too (only 6 such links measured;
@@ -120,7 +129,8 @@ def band_key(kind: str | None, role: str | None) -> tuple[str | None, str | None
 
 
 def is_dense(density: float | None) -> bool:
-    """Whether an implied density (kg/m^3; None: no mass kept) is above :data:`DENSE`."""
+    """Whether an implied density (kg/m^3; None: no mass kept) is above
+    :data:`~urdfinertia.link.geometry_choice.DENSE`."""
     return density is not None and density > DENSE
 
 
