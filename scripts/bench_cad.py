@@ -22,16 +22,20 @@ centroid-to-CoM offset bin (the constants of ``urdfinertia.link.errorbar``), wit
 coverage of each package under bands fitted on the other packages (leave one package
 out), then on all packages.
 
-Usage: ``nice python scripts/bench_cad.py [--max-files N] [--calibrate] [--packages P ...]``
+Usage: ``nice python scripts/bench_cad.py [--max-files N] [--file-seconds S] [--calibrate]
+[--packages P ...] [--samples FILE]``; ``--from-samples FILE ...`` reports saved samples
+without measuring again (bands as calibrated now).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
+import signal
 import sys
 from collections import defaultdict
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -45,8 +49,12 @@ from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.link import geometry_choice
 from urdfinertia.link.errorbar import (
     BAND_LEVEL,
+    BANDS,
+    DENSE,
+    DENSE_CELL,
     OFFSET_EDGES,
     band_key,
+    is_dense,
     lookup_band,
     offset_bin,
 )
@@ -60,6 +68,12 @@ MIN_CELL = 12
 #: nearest the stated level is used (the pooled 80th percentile of the other packages
 #: under-covers a package harder than they are).
 QUANTILES = (0.80, 0.85, 0.90)
+#: Packages with at least this many links are judged on their own coverage.
+BIG_PACKAGE = 10
+#: The targets of the cross-validated coverage: pooled, and the floor of every package of
+#: at least :data:`BIG_PACKAGE` links.
+POOLED_TARGET = (0.75, 0.85)
+PACKAGE_FLOOR = 0.60
 
 
 def packages() -> dict[str, list[Path]]:
@@ -85,11 +99,21 @@ class Sample:
     role: str
     prev: float | None = None  # the previous choice's error
     mujoco: float | None = None  # MuJoCo's inertia from geoms, scaled to the CAD mass
+    file: str = ""
+    link: str = ""
+    density: float | None = None  # kept mass over the chosen geometry's volume, kg/m^3
 
     @property
-    def key(self) -> tuple[str, str, int | None]:
+    def key(self) -> tuple[str | None, str | None, int | None]:
         return (*band_key(self.kind, self.role), None if self.offset is None
                 else offset_bin(self.offset))
+
+    def cells(self, dense_apart: bool) -> tuple[tuple, ...]:
+        """The :data:`BANDS` cells this sample is fitted into, finest first."""
+        if dense_apart and is_dense(self.density):
+            return (DENSE_CELL,)
+        kind, role, b = self.key
+        return ((kind, role, b), (kind, None, b), (None, None, b))
 
 
 def _previous_sets(link: Link) -> list[tuple[str, tuple]]:
@@ -146,6 +170,11 @@ def _mujoco_tensors(path: Path) -> dict[str, tuple[float, np.ndarray]] | None:
     return out
 
 
+def _file_name(path: Path) -> str:
+    """The description as ``folder/name`` (many robots are each a ``robot.xml``)."""
+    return f"{path.parent.name}/{path.name}"
+
+
 def _err(got: np.ndarray, cad: np.ndarray) -> float:
     return float(np.linalg.norm(got - cad) / np.linalg.norm(cad))
 
@@ -189,7 +218,8 @@ def run_file(package: str, path: Path, seen: set, meshes: MeshLibrary,
         if cad is None or r.assembly is None or r.error_bar is None or r.choice is None:
             continue
         s = Sample(package, _err(r.assembly.total.inertia, cad.inertia), r.error_bar.band,
-                   r.error_bar.offset, r.choice.kind, r.choice.role)
+                   r.error_bar.offset, r.choice.kind, r.choice.role, file=_file_name(path),
+                   link=r.name, density=r.choice.density)
         prev = old.get(r.name)
         if prev is not None and prev.assembly is not None:
             s.prev = _err(prev.assembly.total.inertia, cad.inertia)
@@ -226,14 +256,29 @@ def _dump_candidates(package: str, path: Path, robot: Robot, withheld: dict,
                 got = assemble(list(c.parts), MassSource("kept", cad.mass)).total
             except (UrdfInertiaError, ValueError):
                 continue
-            rows.append({"package": package, "file": path.name, "link": link.name,
+            box = _box(refs, meshes, base)
+            rows.append({"package": package, "file": _file_name(path), "link": link.name,
                          "role": role, "kind": c.kind, "volume": c.volume,
                          "dropped": len(c.dropped), "diagonal": c.diagonal,
                          "offset": float(np.linalg.norm(c.centroid - cad.com)),
-                         "mass": cad.mass, "error": _err(got.inertia, cad.inertia)})
+                         "mass": cad.mass, "error": _err(got.inertia, cad.inertia),
+                         "elements": len(refs), "centroid": c.centroid.tolist(),
+                         "com": np.asarray(cad.com).tolist(),
+                         "box": None if box is None else [box[0].tolist(), box[1].tolist()],
+                         "moments": np.linalg.eigvalsh(got.inertia).tolist(),
+                         "cad_moments": np.linalg.eigvalsh(cad.inertia).tolist()})
     with open(DUMP, "a") as f:
         for row in rows:
             f.write(json.dumps(row) + "\n")
+
+
+def _box(refs: tuple, meshes: MeshLibrary, base: Path) -> tuple | None:
+    from urdfinertia.link.bounds import BoundsCache, link_bounds
+
+    try:
+        return link_bounds(refs, BoundsCache(meshes), base)
+    except UrdfInertiaError:
+        return None
 
 
 def _pct(values: list[float], q: float) -> str:
@@ -259,12 +304,12 @@ HEADER = (f"{'package':20s} {'links':>5s}  {'median':>6s} {'p90':>6s} {'in 80%':
 def fit_bands(samples: list[Sample], quantile: float = BAND_LEVEL) -> dict[tuple, float]:
     """The ``quantile`` of the error per (kind, role, bin) cell; cells with fewer than
     :data:`MIN_CELL` samples are left out (they take coarser cells' bands)."""
+    fitted = [s for s in samples if s.offset is not None]
+    # dense geometry has its own cell when there are enough such links to fit one
+    apart = sum(is_dense(s.density) for s in fitted) >= MIN_CELL
     cells: dict[tuple, list[float]] = defaultdict(list)
-    for s in samples:
-        if s.offset is None:
-            continue
-        kind, role, b = s.key
-        for key in ((kind, role, b), (kind, None, b), (None, None, b)):
+    for s in fitted:
+        for key in s.cells(apart):
             cells[key].append(s.error)
     return {k: float(np.percentile(v, 100 * quantile)) for k, v in cells.items()
             if len(v) >= MIN_CELL or k[0] is None}
@@ -273,7 +318,7 @@ def fit_bands(samples: list[Sample], quantile: float = BAND_LEVEL) -> dict[tuple
 def band_of(bands: dict[tuple, float], s: Sample) -> float:
     if s.offset is None:
         return s.band  # CoM derived too: the model band, not fitted here
-    return lookup_band(bands, s.kind, s.role, s.offset)
+    return lookup_band(bands, s.kind, s.role, s.offset, s.density)
 
 
 def cross_validated(samples: list[Sample], quantile: float) -> dict[str, list[bool]]:
@@ -291,19 +336,34 @@ def cross_validated(samples: list[Sample], quantile: float) -> dict[str, list[bo
 
 def calibrate(samples: list[Sample]) -> float:
     """Print the cross-validated coverage per package for a few fitting quantiles; return
-    the quantile whose pooled coverage is nearest the stated level."""
+    the lowest (narrowest bands) that meets the targets (:data:`POOLED_TARGET` pooled, no
+    package of at least :data:`BIG_PACKAGE` links below :data:`PACKAGE_FLOOR`), else the
+    one whose pooled coverage is nearest the stated level."""
     print(f"\ncross-validation by package (bands fitted on the other packages), stated level "
-          f"{BAND_LEVEL:.0%}, offset bins {OFFSET_EDGES}, cells of at least {MIN_CELL}:")
-    best, best_gap = BAND_LEVEL, np.inf
+          f"{BAND_LEVEL:.0%}, offset bins {OFFSET_EDGES}, cells of at least {MIN_CELL}, "
+          f"dense above {DENSE:.0f} kg/m3:")
+    nearest, gap = BAND_LEVEL, np.inf
+    meets: list[float] = []
     for quantile in QUANTILES:
         cv = cross_validated(samples, quantile)
-        pooled = [x for v in cv.values() for x in v]
+        pooled = float(np.mean([x for v in cv.values() for x in v]))
         per = ", ".join(f"{p} {np.mean(v):.0%} (n={len(v)})" for p, v in cv.items())
-        print(f"  fitted at p{100 * quantile:.0f}: pooled {np.mean(pooled):.1%}; {per}")
-        if abs(np.mean(pooled) - BAND_LEVEL) < best_gap:
-            best, best_gap = quantile, abs(np.mean(pooled) - BAND_LEVEL)
-    print(f"  nearest the stated level: fitted at p{100 * best:.0f}")
-    return best
+        big = {p: float(np.mean(v)) for p, v in cv.items() if len(v) >= BIG_PACKAGE}
+        low = min(big, key=big.__getitem__) if big else None
+        print(f"  fitted at p{100 * quantile:.0f}: pooled {pooled:.1%}; {per}")
+        if low is not None:
+            print(f"    lowest of the {len(big)} packages of at least {BIG_PACKAGE} links: "
+                  f"{low} {big[low]:.0%}")
+        if POOLED_TARGET[0] <= pooled <= POOLED_TARGET[1] and (
+                low is None or big[low] >= PACKAGE_FLOOR):
+            meets.append(quantile)
+        if abs(pooled - BAND_LEVEL) < gap:
+            nearest, gap = quantile, abs(pooled - BAND_LEVEL)
+    if meets:
+        print(f"  the lowest that meets the targets: fitted at p{100 * min(meets):.0f}")
+        return min(meets)
+    print(f"  none meets the targets; nearest the stated level: fitted at p{100 * nearest:.0f}")
+    return nearest
 
 
 def print_bands(samples: list[Sample], quantile: float) -> None:
@@ -311,10 +371,10 @@ def print_bands(samples: list[Sample], quantile: float) -> None:
     print(f"\nBANDS fitted on all packages at p{100 * quantile:.0f} (kind, role, offset "
           "bin): band (n)")
     counts: dict[tuple, int] = defaultdict(int)
+    apart = DENSE_CELL in bands
     for s in samples:
         if s.offset is not None:
-            kind, role, b = s.key
-            for key in ((kind, role, b), (kind, None, b), (None, None, b)):
+            for key in s.cells(apart):
                 counts[key] += 1
     inside: dict[str, list[bool]] = defaultdict(list)
     for s in samples:
@@ -322,10 +382,42 @@ def print_bands(samples: list[Sample], quantile: float) -> None:
     pooled = [x for v in inside.values() for x in v]
     print(f"coverage with these bands (in sample): pooled {np.mean(pooled):.1%}; " + ", ".join(
         f"{p} {np.mean(v):.0%}" for p, v in sorted(inside.items())))
+    print("band widths by geometry used (median and p90 of the stated band, coverage):")
+    kinds: dict[str, list[Sample]] = defaultdict(list)
+    for s in samples:
+        if s.offset is not None:
+            dense = f" above {DENSE:.0f} kg/m3" if apart and is_dense(s.density) else ""
+            kinds[f"{s.kind}/{band_key(s.kind, s.role)[1]}{dense}"].append(s)
+    for k, group in sorted(kinds.items()):
+        widths = [band_of(bands, s) for s in group]
+        errors = [s.error for s in group]
+        covered = np.mean([e <= w for e, w in zip(errors, widths, strict=True)])
+        print(f"  {k:20s} n={len(group):4d}  band median {np.median(widths):5.0%}, p90 "
+              f"{np.percentile(widths, 90):5.0%}; error median {np.median(errors):5.1%}; "
+              f"covered {covered:.0%}")
     print("BANDS = {")
     for key, value in sorted(bands.items(), key=str):
         print(f"    {key!r}: {value:.2f},  # n={counts[key]}")
     print("}")
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: int) -> Iterator[None]:
+    """Raise TimeoutError in the body after ``seconds`` (0: never; POSIX only)."""
+    if seconds <= 0:
+        yield
+        return
+
+    def expired(signum: int, frame: object) -> None:
+        raise TimeoutError(f"took longer than {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.alarm(seconds)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def main() -> int:
@@ -335,18 +427,30 @@ def main() -> int:
     ap.add_argument("--packages", nargs="*", default=None, help="only these packages")
     ap.add_argument("--dump", type=Path, default=None,
                     help="append every sample's candidate geometries and errors (JSON lines)")
+    ap.add_argument("--samples", type=Path, default=None,
+                    help="append every sample (package, link, errors, band) as JSON lines")
+    ap.add_argument("--file-seconds", type=int, default=0,
+                    help="skip a file that takes longer than this (0: no limit)")
+    ap.add_argument("--from-samples", type=Path, nargs="*", default=None,
+                    help="measure nothing: report the samples of these --samples files, "
+                    "bands as calibrated now")
     args = ap.parse_args()
+    if args.from_samples is not None:
+        samples = [x for path in args.from_samples for x in read_samples(path)]
+        report(samples, args.calibrate)
+        return 0
     global DUMP
     DUMP = args.dump
     found = packages()
     if not found:
         print("no robot packages found: nothing to measure")
         return 0
-    samples: list[Sample] = []
+    samples = []
     seen: set = set()
     changed = plausible = 0
     skipped: dict[str, int] = defaultdict(int)
-    for package, files in found.items():
+    # the smaller packages first: a run stopped early has measured the most packages
+    for package, files in sorted(found.items(), key=lambda kv: (len(kv[1]), kv[0])):
         if args.packages is not None and package not in args.packages:
             continue
         files = files[:args.max_files or None]
@@ -354,13 +458,21 @@ def main() -> int:
         for path in files:
             meshes = mesh_library(package_dirs(package, path))
             try:
-                got, c, p = run_file(package, path, seen, meshes)
-            except (UrdfInertiaError, ValueError, RecursionError, OSError) as exc:
-                if not skipped[package]:
-                    print(f"  skipped {path.name}: {exc}", file=sys.stderr)
+                with _time_limit(args.file_seconds):
+                    got, c, p = run_file(package, path, seen, meshes)
+            except (UrdfInertiaError, ValueError, RecursionError, OSError,
+                    TimeoutError) as exc:
+                if not skipped[package] or isinstance(exc, TimeoutError):
+                    print(f"  skipped {_file_name(path)}: {exc}", file=sys.stderr)
                 skipped[package] += 1
                 continue
             samples += got
+            if args.samples is not None:
+                import json
+
+                with open(args.samples, "a") as f:
+                    for x in got:
+                        f.write(json.dumps(dataclasses.asdict(x)) + "\n")
             changed += c
             plausible += p
         mine = [x for x in samples if x.package == package]
@@ -368,7 +480,26 @@ def main() -> int:
             print("  " + line(package, mine), file=sys.stderr, flush=True)
     print(f"CAD values in place: the default fix changed {changed} of {plausible} plausible "
           "links (target 0)")
-    print(f"files skipped (unreadable, missing meshes): {dict(skipped)}")
+    print(f"files skipped (unreadable, missing meshes, over --file-seconds): {dict(skipped)}")
+    report(samples, args.calibrate)
+    return 0
+
+
+def read_samples(path: Path) -> list[Sample]:
+    """The samples of a ``--samples`` file, each band read again from the bands in use."""
+    import json
+
+    out = []
+    for text in path.read_text().splitlines():
+        x = Sample(**json.loads(text))
+        if x.offset is not None:
+            x.band = lookup_band(BANDS, x.kind, x.role, x.offset, x.density)
+        out.append(x)
+    return out
+
+
+def report(samples: list[Sample], calibrate_bands: bool) -> None:
+    """The tables: per package, pooled, by geometry used; the calibration if asked."""
     print("errors: relative Frobenius, tensor about the CoM; prev: the previous choice "
           "(collision first); mj: MuJoCo's inertia from geoms scaled to the CAD mass, "
           "ours50 on the same links")
@@ -376,19 +507,18 @@ def main() -> int:
     by: dict[str, list[Sample]] = defaultdict(list)
     for s in samples:
         by[s.package].append(s)
-    for package, s in sorted(by.items()):
-        print(line(package, s))
+    for package, group in sorted(by.items()):
+        print(line(package, group))
     if samples:
         print(line("pooled", samples))
         kinds: dict[str, list[Sample]] = defaultdict(list)
         for s in samples:
             kinds[f"{s.kind}/{s.role}"].append(s)
         print("\nby geometry used:")
-        for k, s in sorted(kinds.items()):
-            print(line(k, s))
-    if args.calibrate and samples:
+        for k, group in sorted(kinds.items()):
+            print(line(k, group))
+    if calibrate_bands and samples:
         print_bands(samples, calibrate(samples))
-    return 0
 
 
 if __name__ == "__main__":

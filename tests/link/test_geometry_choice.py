@@ -12,7 +12,7 @@ import pytest
 from urdfinertia.cli import main
 from urdfinertia.descriptions.model import Box, GeometryRef, Mesh, Origin
 from urdfinertia.link.fix import fix_file
-from urdfinertia.link.geometry_choice import Candidate, choose
+from urdfinertia.link.geometry_choice import DENSE, Candidate, choose
 from urdfinertia.link.options import FixOptions, weighable
 from urdfinertia.link.results import Status
 
@@ -49,6 +49,31 @@ def test_implausible_density_loses_to_any_plausible_one():
     best, why = choose([marker, box], 2.0, np.zeros(3))
     assert best is box
     assert "implied density plausible" in why.why
+
+
+def test_a_set_denser_than_titanium_loses_to_one_a_link_can_be_made_of():
+    # 2 kg in 0.25 l (8000 kg/m^3): the mesh is short of the body's volume
+    thin = _candidate("visual", "mesh", 2.5e-4)
+    box = _candidate("collision", "primitive", 1e-3)
+    best, why = choose([thin, box], 2.0, np.zeros(3))
+    assert best is box and why.why == f"implied density at most {DENSE:.0f} kg/m³"
+    # at 4000 kg/m^3 the mesh stays the more faithful kind
+    solid = _candidate("visual", "mesh", 5e-4)
+    assert choose([solid, box], 2.0, np.zeros(3))[0] is solid
+    # every set dense: nothing to prefer on that ground
+    denser = _candidate("collision", "primitive", 2e-4)
+    assert choose([thin, denser], 2.0, np.zeros(3))[0] is thin
+
+
+def test_fix_uses_the_stand_in_where_the_mesh_misses_volume():
+    result = fix_file(DATA / "dense.urdf", FixOptions())
+    forearm = result.link("forearm")
+    # the L-shaped bar (1.152 l) would hold 10 kg at 8681 kg/m^3; the box (4.5 l) at 2222
+    assert forearm.status == Status.RECOMPUTED and forearm.geometry == "collision"
+    assert forearm.choice is not None and forearm.choice.kind == "primitive"
+    assert forearm.choice.density == pytest.approx(10 / 4.5e-3)
+    assert "implied density at most 4500 kg/m³" in forearm.choice.why
+    assert forearm.choice.others == ("visual (detailed mesh)",)
 
 
 def test_centroid_nearest_the_kept_com_among_the_same_kind():

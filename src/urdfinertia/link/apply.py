@@ -115,7 +115,8 @@ def _apply(link: Link, decision: Decision, options: FixOptions, meshes: MeshSour
     if diagonal is None and decision.bounds is not None:
         diagonal = float(np.linalg.norm(decision.bounds[1] - decision.bounds[0]))
     error_bar = None if r.geometry == "spec" else tensor_error_bar(
-        offset, diagonal, *((r.choice.kind, r.choice.role) if r.choice is not None else ()))
+        offset, diagonal, *((r.choice.kind, r.choice.role, r.choice.density)
+                            if r.choice is not None else ()))
     return replace(r, assembly=assembly, decision=decision.describe(), kept=kept,
                    derived=tuple(v for v in VALUES if v not in kept), error_bar=error_bar)
 

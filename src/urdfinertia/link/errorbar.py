@@ -10,6 +10,10 @@ tensor about the CoM grows with the distance between the solid's centroid and th
   geometry integrated (primitive stand-ins, convex hull, detailed mesh), its role
   (collision or visual) and the centroid-to-CoM offset, as a fraction of the geometry's
   bounding-box diagonal;
+- when the geometry needs an implied density (kept mass over its volume) above
+  :data:`~urdfinertia.link.geometry_choice.DENSE` (solid titanium) to hold the kept mass,
+  it likely misses volume (open shells, parts not drawn) and the band is that of such
+  links, whatever the offset (:data:`DENSE_CELL`);
 - when the CoM is derived too, nothing tells how uneven the link is, and the band is the
   spread of the homogeneous model over all links.
 
@@ -23,35 +27,50 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from urdfinertia.link.geometry_choice import DENSE
+
 #: Upper edges of the centroid-to-CoM offset bins, fractions of the box diagonal. The
 #: first bin is a centroid on the kept CoM (the tensor was likely computed from this very
 #: geometry, :data:`urdfinertia.link.geometry_choice.CENTROID_MATCH`).
 OFFSET_EDGES = (0.001, 0.03, 0.08)
 #: The band of the relative tensor error by (kind of geometry, role, offset bin): kind as
 #: :data:`urdfinertia.link.geometry_choice.KINDS`, role "collision" or "visual" (None:
-#: every role), bin as :func:`offset_bin`; (None, None, bin) is every kind. Fitted by
-#: ``scripts/bench_cad.py --calibrate`` on 164 CAD links of 9 packages at the quantile
-#: (p90) whose coverage, cross-validated by package, is nearest :data:`BAND_LEVEL`
-#: (80.5 %; docs: the error bar). Cells with fewer than 12 links are left out and take
-#: the coarser cell's band.
-BANDS: dict[tuple[str | None, str | None, int], float] = {
-    ("mesh", "collision", 1): 1.25,
-    ("mesh", "collision", 2): 0.38,
-    ("mesh", "visual", 0): 0.67,
-    ("mesh", "visual", 1): 0.30,
-    ("mesh", "visual", 2): 1.05,
-    ("mesh", "visual", 3): 0.84,
-    ("mesh", None, 0): 0.79,
-    ("mesh", None, 1): 0.82,
-    ("mesh", None, 2): 1.02,
-    ("mesh", None, 3): 0.84,
-    ("primitive", "collision", 0): 0.59,
-    ("primitive", None, 0): 0.64,
-    (None, None, 0): 0.74,
-    (None, None, 1): 0.82,
-    (None, None, 2): 1.00,
-    (None, None, 3): 0.83,
+#: every role), bin as :func:`offset_bin`; (None, None, bin) is every kind;
+#: :data:`DENSE_CELL` is every dense geometry. Fitted by ``scripts/bench_cad.py
+#: --calibrate`` on 668 CAD links of 10 packages at the lowest quantile (p85) whose
+#: coverage, cross-validated by package, meets the targets (83.1 % pooled, no package of
+#: 10 links or more below 60 %; docs: the error bar). Cells with fewer than 12 links are
+#: left out and take the coarser cell's band.
+BANDS: dict[tuple[str | None, str | None, int | None], float] = {
+    ("dense", None, None): 1.43,
+    ("hull", "collision", 1): 0.58,
+    ("hull", "collision", 2): 0.58,
+    ("hull", None, 1): 0.58,
+    ("hull", None, 2): 0.43,
+    ("hull", None, 3): 0.46,
+    ("mesh", "collision", 0): 0.18,
+    ("mesh", "collision", 1): 0.74,
+    ("mesh", "collision", 2): 0.67,
+    ("mesh", "collision", 3): 0.79,
+    ("mesh", "visual", 0): 0.69,
+    ("mesh", "visual", 1): 0.48,
+    ("mesh", "visual", 2): 0.69,
+    ("mesh", "visual", 3): 0.90,
+    ("mesh", None, 0): 0.46,
+    ("mesh", None, 1): 0.60,
+    ("mesh", None, 2): 0.68,
+    ("mesh", None, 3): 0.89,
+    ("primitive", "collision", 0): 0.58,
+    ("primitive", "collision", 3): 0.73,
+    ("primitive", None, 0): 0.57,
+    ("primitive", None, 3): 0.73,
+    (None, None, 0): 0.50,
+    (None, None, 1): 0.58,
+    (None, None, 2): 0.68,
+    (None, None, 3): 0.78,
 }
+#: The :data:`BANDS` key of links whose implied density is above :data:`DENSE`.
+DENSE_CELL: tuple[str | None, str | None, int | None] = ("dense", None, None)
 #: 80th percentile of the error when the CoM is derived too (only 6 such links measured;
 #: a wider set of 846 links gave p75 47 %, p90 76 %).
 MODEL_P80 = 0.81
@@ -75,18 +94,25 @@ class ErrorBar:
     basis: str
     offset: float | None = None
     kind: str | None = None
+    density: float | None = None
 
     def __str__(self) -> str:
         from urdfinertia.link.geometry_choice import KIND_WORDS
 
         what = f"{KIND_WORDS[self.kind]}, " if self.kind is not None else ""
-        why = (f"{what}centroid {100 * self.offset:.1f} % of the box diagonal from the "
-               "kept CoM" if self.offset is not None else "homogeneous model, CoM not known")
+        if self.basis == "density" and self.density is not None:
+            why = (f"{what}implied density {self.density:.0f} kg/m³: the geometry may miss "
+                   "volume")
+        elif self.offset is not None:
+            why = f"{what}centroid {100 * self.offset:.1f} % of the box diagonal from the " \
+                "kept CoM"
+        else:
+            why = "homogeneous model, CoM not known"
         return f"tensor within ±{100 * self.band:.0f} % of CAD ({100 * BAND_LEVEL:.0f} %: {why})"
 
     def as_dict(self) -> dict[str, object]:
         return {"band": self.band, "level": BAND_LEVEL, "basis": self.basis,
-                "offset": self.offset, "kind": self.kind}
+                "offset": self.offset, "kind": self.kind, "density": self.density}
 
 
 def offset_bin(offset: float) -> int:
@@ -102,9 +128,19 @@ def band_key(kind: str | None, role: str | None) -> tuple[str | None, str | None
     return kind, None if role is None else ("visual" if role == "visual" else "collision")
 
 
-def lookup_band(bands: dict[tuple[str | None, str | None, int], float], kind: str | None,
-                role: str | None, offset: float) -> float:
-    """The band of the finest cell of ``bands`` holding (kind, role, offset bin)."""
+def is_dense(density: float | None) -> bool:
+    """Whether an implied density (kg/m^3; None: no mass kept) is above
+    :data:`~urdfinertia.link.geometry_choice.DENSE`."""
+    return density is not None and density > DENSE
+
+
+def lookup_band(bands: dict[tuple[str | None, str | None, int | None], float],
+                kind: str | None, role: str | None, offset: float,
+                density: float | None = None) -> float:
+    """The band of the finest cell of ``bands`` holding (kind, role, offset bin); a dense
+    geometry (:func:`is_dense`) takes :data:`DENSE_CELL` when calibrated."""
+    if is_dense(density) and DENSE_CELL in bands:
+        return bands[DENSE_CELL]
     kind, role = band_key(kind, role)
     b = offset_bin(offset)
     for key in ((kind, role, b), (kind, None, b), (None, None, b)):
@@ -114,7 +150,8 @@ def lookup_band(bands: dict[tuple[str | None, str | None, int], float], kind: st
 
 
 def tensor_error_bar(centroid_offset: float | None, diagonal: float | None,
-                     kind: str | None = None, role: str | None = None) -> ErrorBar:
+                     kind: str | None = None, role: str | None = None,
+                     density: float | None = None) -> ErrorBar:
     """The error bar of a derived tensor.
 
     Parameters
@@ -127,9 +164,12 @@ def tensor_error_bar(centroid_offset: float | None, diagonal: float | None,
     kind, role : str or None
         The kind of geometry integrated ("primitive", "hull", "mesh") and its role
         ("collision", "visual", "geom"); None when not known.
+    density : float or None
+        The kept mass over the geometry's volume, kg/m^3; None when no mass is kept.
     """
     if centroid_offset is None or diagonal is None or not (
             math.isfinite(diagonal) and diagonal > 0):
-        return ErrorBar(MODEL_P80, "model", kind=kind)
+        return ErrorBar(MODEL_P80, "model", kind=kind, density=density)
     rel = centroid_offset / diagonal
-    return ErrorBar(lookup_band(BANDS, kind, role, rel), "offset", rel, kind)
+    basis = "density" if is_dense(density) and DENSE_CELL in BANDS else "offset"
+    return ErrorBar(lookup_band(BANDS, kind, role, rel, density), basis, rel, kind, density)

@@ -14,13 +14,17 @@ Each candidate set is integrated at unit density and judged on what the link sti
    :data:`~urdfinertia.link.options.PLAUSIBLE_DENSITY`): a volume that no material fills
    with the kept mass is not the body. With no mass kept, an MJCF body's own geoms
    (what MuJoCo computes with, materials included) are used;
-3. a centroid on the kept CoM (within :data:`CENTROID_MATCH` of the box diagonal): the
+3. an implied density at most :data:`DENSE`: a set that would have to be denser than
+   solid titanium throughout is short of the body's volume (an open or thinned shell,
+   parts not drawn). Measured (``scripts/bench_cad.py``), this keeps the detailed mesh
+   on most links and drops it where it misses volume;
+4. a centroid on the kept CoM (within :data:`CENTROID_MATCH` of the box diagonal): the
    inertial was computed from that very geometry (a tool's output, or MuJoCo's), so its
    shape is the one that gave the tensor too;
-4. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
+5. the most faithful kind: a detailed mesh over a convex hull over primitive stand-ins
    (:data:`KINDS`); a mesh is a hull when its volume is at least :data:`CONVEX_RATIO`
    of its convex hull's;
-5. among sets of that kind, the centroid nearest the kept CoM (as a fraction of each
+6. among sets of that kind, the centroid nearest the kept CoM (as a fraction of each
    set's box diagonal). Measured (``scripts/bench_cad.py``), letting a far centroid hand
    the choice to a less faithful kind made the error worse, at any threshold tried.
 
@@ -54,6 +58,11 @@ KIND_WORDS = {"primitive": "primitive stand-ins", "hull": "convex hull",
               "mesh": "detailed mesh"}
 #: A mesh whose volume is at least this fraction of its convex hull's is (taken as) a hull.
 CONVEX_RATIO = 0.97
+#: kg/m^3: a set that needs a density above this to hold the kept mass would be denser
+#: than solid titanium throughout; a link of aluminium, steel and plastic with air inside
+#: is lighter, so the set's volume is likely short of the body's. Chosen from materials,
+#: not fitted; the error bar uses it too (:mod:`urdfinertia.link.errorbar`).
+DENSE = 4500.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -248,6 +257,10 @@ def choose(candidates: Sequence[Candidate], mass: float | None, com: np.ndarray 
     if fits and len(fits) < len(pool):
         pool = fits
         reasons.append("implied density plausible")
+    solid = [c for c in pool if (d := density(c)) is None or d <= DENSE]
+    if solid and len(solid) < len(pool):
+        pool = solid
+        reasons.append(f"implied density at most {DENSE:.0f} kg/m³")
     on_com = [c for c in pool if (o := offset(c)) is not None and o < CENTROID_MATCH]
     if on_com and len(on_com) < len(pool):
         pool = on_com
