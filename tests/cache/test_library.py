@@ -240,3 +240,23 @@ def test_seeded_points_are_not_computed_again(sphere_stl, count_reads):
     lib.seed_points(sphere_stl, points)
     np.testing.assert_array_equal(lib.points(sphere_stl), points)
     assert len(count_reads) == 1
+
+
+def test_hull_volume_is_the_scaled_hulls_and_computed_once(box_stl, monkeypatch):
+    """The geometry choice asks a mesh's hull volume per link and candidate: memoised."""
+    from scipy import spatial
+
+    calls = []
+    real = spatial.ConvexHull
+
+    def counting(points, *args, **kwargs):
+        calls.append(len(points))
+        return real(points, *args, **kwargs)
+
+    monkeypatch.setattr(spatial, "ConvexHull", counting)
+    lib = MeshLibrary()
+    box = trimesh.load(box_stl, force="mesh")
+    for scale in [(1.0, 1.0, 1.0), (2.0, 1.0, 0.5), (1.0, 1.0, 1.0), (2.0, 1.0, 0.5)]:
+        assert lib.hull_volume(box_stl, scale) == pytest.approx(
+            box.convex_hull.volume * abs(np.prod(scale)), rel=1e-12)
+    assert len(calls) == 2  # one per distinct scale

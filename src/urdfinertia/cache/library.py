@@ -142,6 +142,7 @@ class MeshLibrary:
         self.timer = timer if timer is not None else StageTimes()
         self._memo: dict[Path, MeshSolids | Exception] = {}
         self._points: dict[Path, np.ndarray] = {}
+        self._hulls: dict[tuple[Path, tuple[float, ...]], float] = {}
         self._resolved: dict[tuple[str, Path], Path | MeshError] = {}
         self._records: dict[tuple[str, Path], tuple[str, str, str]] = {}
         self._real_path = RealPaths()
@@ -255,6 +256,26 @@ class MeshLibrary:
             numbers = self._derived(key, "points", _points_entry,
                                     lambda h, x: len(x) % 3 == 0)[1]
             found = self._points[key] = numbers.reshape(-1, 3)
+        return found
+
+    def hull_volume(self, path: Path, scale: tuple[float, ...] = (1.0, 1.0, 1.0)) -> float:
+        """Volume of the convex hull of the mesh at ``path`` scaled by ``scale``, memoised
+        (links and geometry candidates ask for the same mesh many times).
+
+        Raises
+        ------
+        MeshError
+            As :meth:`points`.
+        ValueError, scipy.spatial.QhullError
+            When the points span no volume.
+        """
+        from scipy.spatial import ConvexHull
+
+        key = (self._key(path), tuple(float(v) for v in scale))
+        found = self._hulls.get(key)
+        if found is None:
+            found = self._hulls[key] = float(
+                ConvexHull(self.points(path) * np.asarray(scale)).volume)
         return found
 
     def display(self, path: Path, max_faces: int, reduce: Reducer,

@@ -194,16 +194,14 @@ def _mesh_kind(ref: GeometryRef, volume: float, meshes: MeshSource, urdf_dir: Pa
     """"hull" when the mesh fills its convex hull, else "mesh"."""
     from urdfinertia.descriptions.model import Mesh
 
-    points_of = getattr(meshes, "points", None)
+    hull_of = getattr(meshes, "hull_volume", None)
     assert isinstance(ref.shape, Mesh)
-    if points_of is None:
+    if hull_of is None:
         return "mesh"
     try:
-        from scipy.spatial import ConvexHull, QhullError
+        from scipy.spatial import QhullError
 
-        pts = points_of(meshes.resolve(ref.shape.filename, urdf_dir)) * np.asarray(
-            ref.shape.scale)
-        hull = float(ConvexHull(pts).volume)
+        hull = hull_of(meshes.resolve(ref.shape.filename, urdf_dir), tuple(ref.shape.scale))
     except (UrdfInertiaError, ValueError, QhullError):
         return "mesh"
     return "hull" if hull > 0 and volume >= CONVEX_RATIO * hull else "mesh"
