@@ -671,3 +671,23 @@ def test_face_count_scan_is_exact_across_chunk_boundaries(chunk, monkeypatch):
     ]:
         raw = data.encode() if isinstance(data, str) else data
         assert mesh_io.declared_faces(io.BytesIO(raw), suffix, len(raw)) == 12, suffix
+
+
+def test_many_comments_and_no_declaration_read_in_linear_time(tmp_path):
+    """The prolog's declaration finder must not backtrack over comments and indentation: a
+    file with a leading comment, no ``<?xml`` and indented comments in its body took 5 s
+    with 2 of them and never ended with 6 (a MuJoCo include of the Franka kitchen does this).
+    Run in a child so that a regression fails on the timeout instead of hanging the suite."""
+    import subprocess
+    import sys
+
+    body = "".join(f"  <!-- part {i} -->\n{' ' * 24}<link name='l{i}'/>\n" for i in range(400))
+    path = tmp_path / "commented.urdf"
+    path.write_text(f"<!-- licence -->\n<robot name='r'>\n{body}</robot>\n", encoding="utf-8")
+    code = ("import sys; from urdfinertia.descriptions.xml import parse_document; "
+            "root = parse_document(open(sys.argv[1], 'rb').read(), sys.argv[1], ('robot',)); "
+            "print(len(root.findall('link')))")
+    done = subprocess.run([sys.executable, "-c", code, str(path)], capture_output=True,
+                          text=True, timeout=30)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "400"

@@ -103,8 +103,11 @@ def parse_document(data: bytes, file: str | Path, roots: tuple[str, ...],
 
 #: An XML declaration anywhere in the prolog (after a BOM, whitespace, comments or nothing:
 #: Cassie's .world puts a licence comment first, which TinyXML-based loaders accept).
+#: Each repetition has one way to match (one whitespace character, or one comment up to
+#: its first ``-->``): nested ``\s+`` or a lazy comment body that may run on to a later
+#: ``-->`` backtrack exponentially on a file with no declaration and many comments.
 _DECLARATION = re.compile(
-    rb"\A(\xef\xbb\xbf)?((?:\s+|<!--.*?-->)*)(<\?xml(?=\s)(.{0,400}?)\?>)", re.S)
+    rb"\A(\xef\xbb\xbf)?((?:\s|<!--(?:(?!-->).)*-->)*)(<\?xml(?=\s)(.{0,400}?)\?>)", re.S)
 _DECLARED_VERSION = re.compile(rb"""\bversion\s*=\s*["']1\.[0-9]+["']""")
 _DECLARED_ENCODING = re.compile(rb"""\bencoding\s*=\s*["']([A-Za-z0-9._-]{1,40})["']""")
 #: libxml2 error codes read past: undefined namespace prefix, content after the root.
