@@ -1,7 +1,7 @@
 """Whole-robot statics over the corpus: joints judged, passive, and those that cannot hold
 their robot against gravity (UI701) or are within the margin (UI702).
 
-    nice .venv/bin/python scripts/bench_statics.py [--packages a,b]
+    nice .venv/bin/python scripts/bench_statics.py [--packages a,b] [--formats urdf,sdf,mjcf]
 
 Reads every URDF of ``support.corpus.robot_packages`` and runs the statics on the written
 masses (``check --no-geometry``'s values; no mesh is read). Prints per package the robots,
@@ -33,8 +33,10 @@ from urdfinertia.errors import UrdfInertiaError  # noqa: E402
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--packages", help="comma-separated package names (default: all)")
+    ap.add_argument("--formats", default="urdf", help="comma-separated description formats "
+                    "(urdf, sdf, mjcf, ...; default: urdf)")
     args = ap.parse_args(argv)
-    packages = robot_packages(("urdf",))
+    packages = robot_packages(tuple(args.formats.split(",")))
     if args.packages:
         wanted = set(args.packages.split(","))
         packages = {k: v for k, v in packages.items() if k in wanted}

@@ -4,7 +4,9 @@
   ``<body>`` of the file in document order; ``FILE:body#K`` in an included file), which
   the writer finds again the same way. The world body is not a link.
 * Joints come from nesting: a body with no joint element is welded to its parent (type
-  "fixed"), ``<freejoint>`` is "floating", hinge "revolute", slide "prismatic".
+  "fixed"), ``<freejoint>`` is "floating", hinge "revolute", slide "prismatic". A hinge
+  or slide brings its axis, limits and effort (:mod:`~urdfinertia.descriptions.mjcf.joints`);
+  of a body with several joints, the first (a note says so).
 * Geoms in MuJoCo's half sizes become the model's full-size shapes
   (:mod:`~urdfinertia.descriptions.mjcf.geoms`). Colliding geoms (``contype`` or
   ``conaffinity`` non-zero) are the link's collisions, the others its visuals, and the
@@ -31,12 +33,15 @@ from lxml import etree
 
 from urdfinertia.descriptions.mjcf.document import MjcfDocument, Source
 from urdfinertia.descriptions.mjcf.geoms import geom_ref, pose_attrs
+from urdfinertia.descriptions.mjcf.joints import actuator_efforts, joint_motion, off_axis
 from urdfinertia.descriptions.mjcf.numbers import GeomError, numbers
 from urdfinertia.descriptions.mjcf.orientation import matrix_rpy
 from urdfinertia.descriptions.model import GeometryRef, Inertial, Joint, Link, Origin, Robot
 from urdfinertia.errors import UrdfError
 
 _JOINT_TYPES = {"hinge": "revolute", "slide": "prismatic", "ball": "ball", "free": "floating"}
+#: an axis line this far (m) from the body's origin is off it
+_OFF_AXIS = 1e-9
 #: MuJoCo's geom density when none is stated, kg/m^3.
 MUJOCO_DENSITY = 1000.0
 
@@ -62,6 +67,8 @@ class _Body:
     counted: list[GeometryRef] = field(default_factory=list)
     joints: list[str] = field(default_factory=list)
     joint_names: list[str] = field(default_factory=list)
+    #: the first joint element: its type, name, class-resolved attributes, frame in the body
+    first_joint: tuple[str, str | None, dict[str, str], np.ndarray, int | None] | None = None
     inertial: Inertial | None = None
     notes: list[str] = field(default_factory=list)
 
@@ -72,6 +79,7 @@ class _Reader:
         self.lenient = lenient
         self.bodies: list[_Body] = []
         self.group_range = doc.inertia_group_range()
+        self.efforts, self.notes = actuator_efforts(doc)
 
     def read(self) -> Robot:
         for el, src in self.doc.children(self.doc.main.root, self.doc.main):
@@ -86,7 +94,7 @@ class _Reader:
         links = tuple(self._link(b) for b in self.bodies)
         joints = tuple(self._joint(b) for b in self.bodies)
         return Robot(name=self.doc.model_name, links=links, joints=joints,
-                     path=self.doc.path, format="mjcf")
+                     path=self.doc.path, format="mjcf", notes=tuple(self.notes))
 
     # -- the body tree -------------------------------------------------------------------
 
@@ -115,6 +123,9 @@ class _Reader:
                                              csrc)
                 kind = "free" if tag == "freejoint" else attrs.get("type", "hinge")
                 body.joints.append(_JOINT_TYPES.get(kind, kind))
+                if body.first_joint is None:
+                    body.first_joint = (body.joints[-1], child.get("name"), attrs, frame,
+                                        child.sourceline)
                 if child.get("name"):
                     body.joint_names.append(child.get("name"))
             elif tag == "inertial":
@@ -204,8 +215,41 @@ class _Reader:
         kinds = [k for k in body.joints if k != "fixed"]
         kind = kinds[0] if kinds else "fixed"
         name = body.joint_names[0] if body.joint_names else f"{body.name}_joint"
+        motion: dict[str, object] = {}
+        first = body.first_joint
+        if first is not None and first[0] in ("revolute", "prismatic"):
+            name = first[1] or name
+            motion = self._motion(body, first, name)
+            if len(kinds) > 1:
+                self.notes.append(f"body '{body.name}' has {len(kinds)} joints: whole-robot "
+                                  f"statics judges only the first, '{name}'")
         return Joint(name=name, type=kind, parent=body.parent, child=body.name,
-                     origin=_origin(body.pose), line=body.el.sourceline)
+                     origin=_origin(body.pose), line=body.el.sourceline,
+                     **motion)  # type: ignore[arg-type]
+
+    def _motion(self, body: _Body, first: tuple[str, str | None, dict[str, str], np.ndarray,
+                                                  int | None], name: str) -> dict[str, object]:
+        """Axis, limits and effort of a body's first joint (see :mod:`.joints`)."""
+        kind, own, attrs, frame, line = first
+        try:
+            motion, point = joint_motion(attrs, kind, frame, self.doc)
+        except GeomError as exc:
+            self.notes.append(f"joint '{name}' (line {line}): {exc}; its motion is not read")
+            return {}
+        if own is not None and own in self.efforts:
+            actuated = self.efforts[own]
+            stated = motion.get("effort")
+            # actuatorfrcrange clamps what the actuators give together
+            motion["effort"] = (None if actuated is None else
+                                min(actuated, stated) if isinstance(stated, float)
+                                else actuated)
+        off = off_axis(point, motion["axis"])  # type: ignore[arg-type]
+        if kind == "revolute" and off > _OFF_AXIS:
+            self.notes.append(f"joint '{name}': its axis passes {off:.3g} m from the origin "
+                              f"of body '{body.name}', which statics turns it about: its "
+                              "load is approximate and its effort not judged")
+            motion["effort"] = None
+        return motion
 
 
 def _origin(pose: np.ndarray) -> Origin:

@@ -43,6 +43,7 @@ from urdfinertia.descriptions.model import (
     Shape,
     Sphere,
 )
+from urdfinertia.descriptions.sdf.joints import joint_motion
 from urdfinertia.descriptions.sdf.poses import MODEL_FRAME, Scope, matrix_rpy, parse_pose
 from urdfinertia.descriptions.urdf.read import _NUMBER, MAX_MAGNITUDE
 from urdfinertia.descriptions.xml import parse_document
@@ -366,7 +367,8 @@ def _link(el: etree._Element, frames: _ModelFrames, ctx: _Ctx) -> tuple[Link, np
 
 
 def _collect(model_el: etree._Element, frames: _ModelFrames, ctx: _Ctx, links: list[Link],
-             poses: dict[str, np.ndarray], joints: list[tuple[etree._Element, str]]) -> None:
+             poses: dict[str, np.ndarray], joints: list[tuple[etree._Element, _ModelFrames]],
+             ) -> None:
     """Pass 2: the links of a model and of its nested models, in document order."""
     for el in model_el:
         if not isinstance(el.tag, str):
@@ -380,7 +382,7 @@ def _collect(model_el: etree._Element, frames: _ModelFrames, ctx: _Ctx, links: l
             links.append(link)
             poses[link.name] = pose
         elif el.tag == "joint":
-            joints.append((el, frames.prefix))
+            joints.append((el, frames))
         elif el.tag == "model":
             name = el.get("name") or ""
             scope = frames.scope.nested.get(name)
@@ -405,15 +407,28 @@ def _note_include(el: etree._Element, ctx: _Ctx) -> None:
                            "itself")
 
 
-def _joint(el: etree._Element, prefix: str, poses: dict[str, np.ndarray]) -> Joint | None:
+def _joint(el: etree._Element, frames: _ModelFrames, poses: dict[str, np.ndarray],
+           ctx: _Ctx, version: tuple[int, ...]) -> Joint | None:
+    prefix = frames.prefix
     parent_el, child_el = _child(el, "parent"), _child(el, "child")
     parent = prefix + (parent_el.text or "").strip() if parent_el is not None else ""
     child = prefix + (child_el.text or "").strip() if child_el is not None else ""
     if parent not in poses or child not in poses:
         return None  # the world, or a frame: no link-to-link transform to record
     origin = _origin(np.linalg.inv(poses[parent]) @ poses[child])
-    return Joint(prefix + (el.get("name") or ""), el.get("type") or "", parent, child, origin,
-                 el.sourceline)
+    name = prefix + (el.get("name") or "")
+    motion = joint_motion(el, frames.scope, child[len(prefix):], name, version,
+                          ctx.robot_notes)
+    return Joint(name, el.get("type") or "", parent, child, origin, el.sourceline,
+                 **motion)  # type: ignore[arg-type]
+
+
+def _version(text: str | None) -> tuple[int, ...]:
+    """``<sdf version="1.6">`` as (1, 6); the newest rules (1.11) when unreadable."""
+    try:
+        return tuple(int(p) for p in (text or "").strip().split("."))
+    except ValueError:
+        return (1, 11)
 
 
 def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) -> Robot:
@@ -432,7 +447,7 @@ def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) ->
                 _note_include(inc, ctx)
     links: list[Link] = []
     poses: dict[str, np.ndarray] = {}
-    joints: list[tuple[etree._Element, str]] = []
+    joints: list[tuple[etree._Element, _ModelFrames]] = []
     several = len(models) > 1
     for model_el in models:
         name = model_el.get("name") or ""
@@ -441,7 +456,9 @@ def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) ->
         _collect(model_el, frames, ctx, links, poses, joints)
     if not models:
         ctx.robot_notes.append("no <model> in the document: nothing to compute")
-    built = [j for j in (_joint(el, prefix, poses) for el, prefix in joints) if j is not None]
+    version = _version(root.get("version"))
+    built = [j for j in (_joint(el, frames, poses, ctx, version) for el, frames in joints)
+             if j is not None]
     name = models[0].get("name", "") if len(models) == 1 else path.stem
     return Robot(name=name, links=tuple(links), joints=tuple(built), path=path, format="sdf",
                  notes=tuple(dict.fromkeys(ctx.robot_notes)))
