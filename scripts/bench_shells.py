@@ -3,7 +3,8 @@
     nice .venv/bin/python scripts/bench_shells.py [--wall 0.002] [--infill 0.2] [--closed-forms]
 
 ``--closed-forms`` first prints the wall volumes of test bodies against their exact
-references (the figures of docs/shells.md; tests/inertia/test_shell.py and tests/link/test_shell_*.py assert them).
+references (the figures of docs/shells.md; tests/inertia/test_shell.py and
+tests/link/test_shell_*.py assert them).
 ``--grids`` first prints the voxel estimate of two SO-100 parts at several voxel sizes.
 
 For every link of the printed arms and legs in the gathered corpus (mani-skill's SO-100
