@@ -206,6 +206,9 @@ class Robot:
     problems: tuple[Problem, ...] = ()
     #: what the reader wants said about the document (SDF includes it does not follow)
     notes: tuple[str, ...] = ()
+    #: what the reader could not read of the joints' motion (axis, limits, effort): only
+    #: whole-robot statics uses it, so ``fix`` does not print these
+    joint_notes: tuple[str, ...] = ()
 
     def link(self, name: str) -> Link:
         for link in self.links:

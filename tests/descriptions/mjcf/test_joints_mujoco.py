@@ -103,7 +103,7 @@ def test_handmade_values_and_notes():
     assert joints["shoulder"].effort == 50.0  # gear 50 x the class's ctrlrange 1
     assert joints["shoulder"].lower == pytest.approx(np.radians(-45))
     assert joints["pin"].effort is None
-    notes = "\n".join(robot.notes)
+    notes = "\n".join(robot.joint_notes)
     assert "'slider' has 2 joints" in notes and "'twist'" in notes and "'pin'" in notes
 
 
@@ -128,3 +128,15 @@ def test_corpus_against_mujoco():
         pytest.skip("no dm_control or gymnasium_robotics models installed")
     totals = np.sum([_compare(p) for p in paths], axis=0)
     assert totals[0] > 0 and totals[1] > 0 and totals[2] > 0
+
+
+def test_fix_does_not_print_what_only_statics_uses(tmp_path, capsys):
+    """Joint notes (several joints in a body, an off-axis pin) concern ``check``'s statics:
+    ``fix`` does not repeat them as warnings."""
+    from urdfinertia import cli
+
+    path = DATA / "arm.xml"
+    assert robot_from_bytes(path.read_bytes(), path).joint_notes  # the fixture has some
+    cli.main(["fix", str(path), "-o", str(tmp_path / "arm.xml"), "-q"])
+    err = capsys.readouterr().err
+    assert "statics" not in err and "has 2 joints" not in err

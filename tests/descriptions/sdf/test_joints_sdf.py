@@ -23,7 +23,7 @@ _LINKS = """<link name="a"/><link name="b"><pose>{pose}</pose></link>"""
 def _joint(body: str, version: str = "1.11", pose: str = "0 0 0 0 0 0"):
     doc = sdf_doc(f'<model name="m">{_LINKS.format(pose=pose)}{body}</model>', version)
     robot = robot_from_bytes(doc, "m.sdf")
-    return {j.name: j for j in robot.joints}, robot.notes
+    return {j.name: j for j in robot.joints}, robot.joint_notes
 
 
 def _revolute(axis: str, pose: str = "", limit: str = "", name: str = "j") -> str:
@@ -174,7 +174,7 @@ def _compare(path: Path, theirs: dict[str, dict]) -> int:
         off = float(np.linalg.norm(point - (point @ axis) * axis))
         if ref["revolute"] and off > 1e-9:
             assert j.effort is None, j.name
-            assert any(f"'{j.name}'" in n and "axis passes" in n for n in robot.notes)
+            assert any(f"'{j.name}'" in n and "axis passes" in n for n in robot.joint_notes)
         else:
             effort = ref["effort"]
             assert (j.effort or None) == (effort if effort is not None

@@ -79,7 +79,7 @@ class _Reader:
         self.lenient = lenient
         self.bodies: list[_Body] = []
         self.group_range = doc.inertia_group_range()
-        self.efforts, self.notes = actuator_efforts(doc)
+        self.efforts, self.joint_notes = actuator_efforts(doc)
 
     def read(self) -> Robot:
         for el, src in self.doc.children(self.doc.main.root, self.doc.main):
@@ -94,7 +94,7 @@ class _Reader:
         links = tuple(self._link(b) for b in self.bodies)
         joints = tuple(self._joint(b) for b in self.bodies)
         return Robot(name=self.doc.model_name, links=links, joints=joints,
-                     path=self.doc.path, format="mjcf", notes=tuple(self.notes))
+                     path=self.doc.path, format="mjcf", joint_notes=tuple(self.joint_notes))
 
     # -- the body tree -------------------------------------------------------------------
 
@@ -221,8 +221,8 @@ class _Reader:
             name = first[1] or name
             motion = self._motion(body, first, name)
             if len(kinds) > 1:
-                self.notes.append(f"body '{body.name}' has {len(kinds)} joints: whole-robot "
-                                  f"statics judges only the first, '{name}'")
+                self.joint_notes.append(f"body '{body.name}' has {len(kinds)} joints: "
+                                        f"whole-robot statics judges only the first, '{name}'")
         return Joint(name=name, type=kind, parent=body.parent, child=body.name,
                      origin=_origin(body.pose), line=body.el.sourceline,
                      **motion)  # type: ignore[arg-type]
@@ -234,7 +234,8 @@ class _Reader:
         try:
             motion, point = joint_motion(attrs, kind, frame, self.doc)
         except GeomError as exc:
-            self.notes.append(f"joint '{name}' (line {line}): {exc}; its motion is not read")
+            self.joint_notes.append(f"joint '{name}' (line {line}): {exc}; its motion is not "
+                                    "read")
             return {}
         if own is not None and own in self.efforts:
             actuated = self.efforts[own]
@@ -245,9 +246,9 @@ class _Reader:
                                 else actuated)
         off = off_axis(point, motion["axis"])  # type: ignore[arg-type]
         if kind == "revolute" and off > _OFF_AXIS:
-            self.notes.append(f"joint '{name}': its axis passes {off:.3g} m from the origin "
-                              f"of body '{body.name}', which statics turns it about: its "
-                              "load is approximate and its effort not judged")
+            self.joint_notes.append(f"joint '{name}': its axis passes {off:.3g} m from the "
+                                    f"origin of body '{body.name}', which statics turns it "
+                                    "about: its load is approximate and its effort not judged")
             motion["effort"] = None
         return motion
 

@@ -104,6 +104,8 @@ class _Ctx:
     path: Path
     lenient: bool
     robot_notes: list[str] = field(default_factory=list)
+    #: what could not be read of the joints' motion (for statics only)
+    joint_notes: list[str] = field(default_factory=list)
 
     def numbers(self, el: etree._Element, text: str, *, finite: bool = True
                 ) -> tuple[float, ...]:
@@ -418,7 +420,7 @@ def _joint(el: etree._Element, frames: _ModelFrames, poses: dict[str, np.ndarray
     origin = _origin(np.linalg.inv(poses[parent]) @ poses[child])
     name = prefix + (el.get("name") or "")
     motion = joint_motion(el, frames.scope, child[len(prefix):], name, version,
-                          ctx.robot_notes)
+                          ctx.joint_notes)
     return Joint(name, el.get("type") or "", parent, child, origin, el.sourceline,
                  **motion)  # type: ignore[arg-type]
 
@@ -461,4 +463,5 @@ def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) ->
              if j is not None]
     name = models[0].get("name", "") if len(models) == 1 else path.stem
     return Robot(name=name, links=tuple(links), joints=tuple(built), path=path, format="sdf",
-                 notes=tuple(dict.fromkeys(ctx.robot_notes)))
+                 notes=tuple(dict.fromkeys(ctx.robot_notes)),
+                 joint_notes=tuple(dict.fromkeys(ctx.joint_notes)))
