@@ -129,6 +129,9 @@ def _motion(joint: Joint, q: np.ndarray) -> np.ndarray:
     k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
     s, c = np.sin(q)[:, None, None], np.cos(q)[:, None, None]
     out[:, :3, :3] = np.eye(3) + s * k + (1 - c) * (k @ k)  # Rodrigues
+    # about the axis line through axis_point p: x -> p + R (x - p)
+    p = np.asarray(joint.axis_point, dtype=np.float64)
+    out[:, :3, 3] = p - out[:, :3, :3] @ p
     return out
 
 
@@ -285,7 +288,8 @@ def _per_joint(robot: Robot, bodies: Mapping[str, Body], parent_joint: dict[str,
             if j.type == "prismatic":
                 part = axis_w @ force
             else:
-                part = np.einsum("ij,ij->i", axis_w, np.cross(at - frame[:, :3, 3], force))
+                pivot = frame[:, :3, :3] @ np.asarray(j.axis_point) + frame[:, :3, 3]
+                part = np.einsum("ij,ij->i", axis_w, np.cross(at - pivot, force))
             nominal += part
             spread += b.band * np.abs(part)
         per_joint[j.name] = (nominal, spread)

@@ -151,6 +151,9 @@ class Joint:
     line: int | None = None
     #: the motion's axis in the joint frame (URDF's default x), for whole-robot statics
     axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    #: a point the axis passes through, in the child link frame: URDF's is the frame's
+    #: origin; an MJCF joint ``pos`` or an SDFormat joint ``<pose>`` may put it elsewhere
+    axis_point: tuple[float, float, float] = (0.0, 0.0, 0.0)
     #: ``<limit lower upper effort>``: m or rad, and N or N m; None when not stated
     lower: float | None = None
     upper: float | None = None

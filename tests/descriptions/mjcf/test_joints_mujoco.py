@@ -79,9 +79,10 @@ def _compare(path: Path) -> tuple[int, int, int]:
             counts[1] += 1
             np.testing.assert_allclose((j.lower, j.upper), ref["range"], atol=1e-9,
                                        err_msg=j.name)
-        pos, axis = ref["pos"], ref["axis"]
-        off = float(np.linalg.norm(pos - (pos @ axis) * axis))
-        expected = None if ref["hinge"] and off > 1e-9 else ref["effort"]
+        # the same axis line: MuJoCo's joint position less our axis point lies along it
+        gap, axis = ref["pos"] - np.asarray(j.axis_point), ref["axis"]
+        np.testing.assert_allclose(gap - (gap @ axis) * axis, 0, atol=1e-6, err_msg=j.name)
+        expected = ref["effort"]
         if expected is None:
             assert j.effort is None, j.name
         else:
@@ -91,7 +92,7 @@ def _compare(path: Path) -> tuple[int, int, int]:
 
 
 def test_handmade_against_mujoco():
-    assert _compare(DATA / "arm.xml") == (4, 4, 3)
+    assert _compare(DATA / "arm.xml") == (4, 4, 4)
 
 
 def test_handmade_values_and_notes():
@@ -102,9 +103,10 @@ def test_handmade_values_and_notes():
     assert joints["elbow"].effort == 16.0
     assert joints["shoulder"].effort == 50.0  # gear 50 x the class's ctrlrange 1
     assert joints["shoulder"].lower == pytest.approx(np.radians(-45))
-    assert joints["pin"].effort is None
+    assert joints["pin"].effort == 5.0  # actuatorfrcrange alone
+    np.testing.assert_allclose(joints["pin"].axis_point, (0, 0, 0.05), atol=1e-15)
     notes = "\n".join(robot.joint_notes)
-    assert "'slider' has 2 joints" in notes and "'twist'" in notes and "'pin'" in notes
+    assert "'slider' has 2 joints" in notes and "'twist'" in notes
 
 
 def test_radian_compiler_and_limited_false():
@@ -131,7 +133,7 @@ def test_corpus_against_mujoco():
 
 
 def test_fix_does_not_print_what_only_statics_uses(tmp_path, capsys):
-    """Joint notes (several joints in a body, an off-axis pin) concern ``check``'s statics:
+    """Joint notes (several joints in a body) concern ``check``'s statics:
     ``fix`` does not repeat them as warnings."""
     from urdfinertia import cli
 
@@ -140,3 +142,22 @@ def test_fix_does_not_print_what_only_statics_uses(tmp_path, capsys):
     cli.main(["fix", str(path), "-o", str(tmp_path / "arm.xml"), "-q"])
     err = capsys.readouterr().err
     assert "statics" not in err and "has 2 joints" not in err
+
+
+def test_hinge_away_from_the_body_origin_turns_about_its_pos():
+    """A 3 kg point-like body hung 0.4 m below its hinge (the joint's ``pos`` above the
+    body's origin), limited to +-100 degrees: the largest load is m g r = 11.77 N m at the
+    quarter turn; turned about the body's origin it would need nothing."""
+    from urdfinertia.analysis.statics import GRAVITY, robot_statics, written_bodies
+
+    doc = b"""<mujoco><worldbody><body name="base">
+      <body name="bob" pos="0 0 -0.4">
+        <joint name="hinge" pos="0 0 0.4" axis="0 1 0" range="-100 100"
+               actuatorfrcrange="-20 20"/>
+        <inertial pos="0 0 0" mass="3" diaginertia="1e-4 1e-4 1e-4"/>
+        <geom type="sphere" size="0.02"/>
+      </body></body></worldbody></mujoco>"""
+    robot = robot_from_bytes(doc, "m.xml")
+    (load,) = robot_statics(robot, written_bodies(robot)).loads
+    assert load.needed == pytest.approx(3 * GRAVITY * 0.4, rel=1e-4)  # a sampled maximum
+    assert load.effort == 20.0 and not load.passive

@@ -85,15 +85,29 @@ def test_mimic_and_unreadable_values():
     assert any("follow" in n and "<effort>" in n for n in notes)
 
 
-def test_off_axis_joint_is_not_judged():
+def test_off_axis_joint_keeps_where_its_axis_passes():
     joints, notes = _joint(_revolute("<xyz>0 1 0</xyz>", "<pose>0 0 0.5 0 0 0</pose>",
                                      "<effort>10</effort>"))
-    assert joints["j"].effort is None
-    assert any("0.5 m" in n and "'j'" in n for n in notes)
-    # along the axis is on it: judged
-    joints, notes = _joint(_revolute("<xyz>0 1 0</xyz>", "<pose>0 0.5 0 0 0 0</pose>",
-                                     "<effort>10</effort>"))
     assert joints["j"].effort == 10.0 and not notes
+    np.testing.assert_allclose(joints["j"].axis_point, (0, 0, 0.5), atol=1e-15)
+
+
+def test_pendulum_hung_below_an_off_origin_axis():
+    """A 2 kg bob at its link's origin, the hinge's axis (y) 0.5 m above it (the joint's
+    <pose>): swung a quarter turn it needs m g r = 9.81 N m; turned about its own origin,
+    as when the axis point is dropped, it would need nothing."""
+    doc = sdf_doc("""<model name="m"><link name="a"/>
+      <link name="b"><pose>0 0 1 0 0 0</pose><inertial><mass>2</mass></inertial></link>
+      <joint name="j" type="revolute"><pose>0 0 0.5 0 0 0</pose>
+        <parent>a</parent><child>b</child>
+        <axis><xyz>0 1 0</xyz>
+        <limit><lower>-2</lower><upper>2</upper><effort>30</effort></limit></axis></joint>
+      <joint name="w" type="fixed"><parent>world</parent><child>a</child></joint>
+    </model>""")
+    robot = robot_from_bytes(doc, "m.sdf")
+    (load,) = robot_statics(robot, written_bodies(robot)).loads
+    assert load.needed == pytest.approx(2 * GRAVITY * 0.5, rel=1e-4)  # a sampled maximum
+    assert not load.passive and load.effort == 30.0
 
 
 def test_pendulum_torque_uses_the_axis():
@@ -171,14 +185,12 @@ def _compare(path: Path, theirs: dict[str, dict]) -> int:
             assert (j.lower, j.upper) == (_limit(ref["lower"]), _limit(ref["upper"])), j.name
         axis = np.asarray(ref["axis"])
         point = np.asarray(ref["point"])
-        off = float(np.linalg.norm(point - (point @ axis) * axis))
-        if ref["revolute"] and off > 1e-9:
-            assert j.effort is None, j.name
-            assert any(f"'{j.name}'" in n and "axis passes" in n for n in robot.joint_notes)
-        else:
-            effort = ref["effort"]
-            assert (j.effort or None) == (effort if effort is not None
-                                          and math.isfinite(effort) else None), j.name
+        # the same axis line: Drake's point less ours lies along the axis
+        gap = point - np.asarray(j.axis_point)
+        np.testing.assert_allclose(gap - (gap @ axis) * axis, 0, atol=1e-9, err_msg=j.name)
+        effort = ref["effort"]
+        assert (j.effort or None) == (effort if effort is not None
+                                      and math.isfinite(effort) else None), j.name
     return compared
 
 

@@ -72,12 +72,6 @@ def joint_motion(attrs: dict[str, str], kind: str, frame: np.ndarray, doc: MjcfD
     return out, point
 
 
-def off_axis(point: np.ndarray, axis: tuple[float, float, float]) -> float:
-    """Distance (m) of the axis line through ``point`` from the body's origin."""
-    a = np.asarray(axis)
-    return float(np.linalg.norm(point - (point @ a) * a))
-
-
 def _actuator_attrs(doc: MjcfDocument, el: etree._Element, src: Source) -> dict[str, str]:
     """An actuator's attributes over its class's: MuJoCo keeps one actuator default per
     class, which every actuator element of the class sets."""

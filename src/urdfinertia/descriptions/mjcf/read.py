@@ -33,7 +33,7 @@ from lxml import etree
 
 from urdfinertia.descriptions.mjcf.document import MjcfDocument, Source
 from urdfinertia.descriptions.mjcf.geoms import geom_ref, pose_attrs
-from urdfinertia.descriptions.mjcf.joints import actuator_efforts, joint_motion, off_axis
+from urdfinertia.descriptions.mjcf.joints import actuator_efforts, joint_motion
 from urdfinertia.descriptions.mjcf.numbers import GeomError, numbers
 from urdfinertia.descriptions.mjcf.orientation import matrix_rpy
 from urdfinertia.descriptions.model import GeometryRef, Inertial, Joint, Link, Origin, Robot
@@ -244,12 +244,8 @@ class _Reader:
             motion["effort"] = (None if actuated is None else
                                 min(actuated, stated) if isinstance(stated, float)
                                 else actuated)
-        off = off_axis(point, motion["axis"])  # type: ignore[arg-type]
-        if kind == "revolute" and off > _OFF_AXIS:
-            self.joint_notes.append(f"joint '{name}': its axis passes {off:.3g} m from the "
-                                    f"origin of body '{body.name}', which statics turns it "
-                                    "about: its load is approximate and its effort not judged")
-            motion["effort"] = None
+        if float(np.linalg.norm(point)) > _OFF_AXIS:
+            motion["axis_point"] = tuple(float(v) for v in point)
         return motion
 
 

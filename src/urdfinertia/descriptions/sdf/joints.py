@@ -122,11 +122,6 @@ def joint_motion(el: etree._Element, scope: Scope, child: str, name: str,
             factors.append(read[0] if read is not None else default)
         out["mimic"] = (prefix + (mimic.get("joint") or ""), factors[0], factors[1])
     point = (np.linalg.inv(child_pose) @ joint_pose)[:3, 3]
-    off = float(np.linalg.norm(point - (point @ in_child) * in_child))
-    if (el.get("type") in ("revolute", "continuous") and off > _OFF_AXIS
-            and math.isfinite(off)):
-        notes.append(f"joint '{name}': its axis passes {off:.3g} m from the origin of "
-                     f"child link '{child}', which statics turns it about: its load is "
-                     "approximate and its effort not judged")
-        out["effort"] = None
+    if np.all(np.isfinite(point)) and float(np.linalg.norm(point)) > _OFF_AXIS:
+        out["axis_point"] = tuple(float(v) for v in point)
     return out
