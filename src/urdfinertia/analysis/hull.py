@@ -39,7 +39,7 @@ from numpy.typing import ArrayLike
 from scipy.optimize import linprog
 from scipy.spatial import ConvexHull, QhullError
 
-from urdfinertia.inertia.realizable import central_second_moment, full_dimensional
+from urdfinertia.inertia.realizable import central_second_moment, centred_points
 
 #: The normalised moments (coordinates of size <= 1, unit mass) are met to this, L1. The
 #: LP solver's own feasibility tolerance is 1e-7.
@@ -111,11 +111,7 @@ def convex_hull(points: ArrayLike) -> Hull:
 
     Raises ``ValueError`` for no points or non-finite ones.
     """
-    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    if p.shape[0] == 0 or not np.all(np.isfinite(p)):
-        raise ValueError(f"need finite (n, 3) points, got shape {p.shape}")
-    mean = p.mean(axis=0)
-    centred = full_dimensional(p - mean)
+    mean, centred = centred_points(points)
     try:
         qh = ConvexHull(centred)
     except QhullError:  # nearly flat beyond the padding's reach: joggle it

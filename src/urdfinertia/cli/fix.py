@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -27,6 +26,7 @@ from urdfinertia.cli.options import (
     add_policy_arguments,
     engine_request,
     options_from_args,
+    positive_float,
 )
 from urdfinertia.cli.outcome import fix_exit_code, left_lines, problem_lines
 from urdfinertia.errors import OutputError, UrdfInertiaError
@@ -68,7 +68,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--keep-auto", action="store_true",
                    help="SDFormat: leave <inertial auto=\"true\"> for the simulator to compute "
                         "(default: write explicit values and drop the auto attribute)")
-    p.add_argument("--total-mass", type=_kilograms, metavar="KG",
+    p.add_argument("--total-mass", type=positive_float, metavar="KG",
                    help="the robot weighs KG (a datasheet's figure): the masses fix derives "
                         "are scaled to meet it, kept masses stay (exit 2, nothing written, "
                         "when the kept masses alone reach it)")
@@ -166,16 +166,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"urdf-inertia: {len(left)} of {len(result.links)} links left as they were "
               "(exit 1)", file=sys.stderr)
     return max(fix_exit_code(len(left)), engine_regressions(args, result, options))
-
-
-def _kilograms(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a positive number of kg, got {text!r}")
-    return value
 
 
 def _to_terminal(args: argparse.Namespace) -> bool:

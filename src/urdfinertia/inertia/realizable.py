@@ -144,11 +144,7 @@ def bounding_ellipsoid(points: ArrayLike, tol: float = 1e-2) -> Ellipsoid:
     ``1e-9`` of their extent in the missing directions, so the ellipsoid exists.
     Raises ``ValueError`` for no points or non-finite ones.
     """
-    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    if p.shape[0] == 0 or not np.all(np.isfinite(p)):
-        raise ValueError(f"need finite (n, 3) points, got shape {p.shape}")
-    mean = p.mean(axis=0)
-    centred = full_dimensional(p - mean)
+    mean, centred = centred_points(points)
     centre, shape = _khachiyan(centred, tol)
     r2 = _radii2(centred, centre, shape)
     shape = shape / max(float(r2.max()), 1e-300)  # grow (or shrink) to hold every point
@@ -158,6 +154,17 @@ def bounding_ellipsoid(points: ArrayLike, tol: float = 1e-2) -> Ellipsoid:
 def _radii2(points: np.ndarray, centre: np.ndarray, shape: np.ndarray) -> np.ndarray:
     d = points - centre
     return np.asarray(np.einsum("ij,jk,ik->i", d, shape, d))
+
+
+def centred_points(points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The mean of ``points`` ((n, 3), m) and the points about it, padded to span three
+    dimensions (:func:`full_dimensional`). Raises ``ValueError`` for no points or
+    non-finite ones."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    if p.shape[0] == 0 or not np.all(np.isfinite(p)):
+        raise ValueError(f"need finite (n, 3) points, got shape {p.shape}")
+    mean = p.mean(axis=0)
+    return mean, full_dimensional(p - mean)
 
 
 def full_dimensional(centred: np.ndarray) -> np.ndarray:
