@@ -83,6 +83,15 @@ class MeshError(UrdfInertiaError):
 
     default_code = "mesh-unreadable"
 
+    def __init__(self, cause: str, *, file: str | Path | None = None,
+                 line: int | None = None, link: str | None = None,
+                 code: str | None = None, of_bytes: bool = False) -> None:
+        super().__init__(cause, file=file, line=line, link=link, code=code)
+        #: True when the file's bytes alone caused it (corrupt, empty, over a limit), not
+        #: the machine (permissions, memory): a file's result may then be reused while the
+        #: mesh at the same place has the same bytes, though the message names the path
+        self.of_bytes = of_bytes
+
 
 class SpecError(UrdfInertiaError):
     """The decomposition spec is invalid."""

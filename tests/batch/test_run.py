@@ -347,6 +347,38 @@ def test_errors_that_may_depend_on_the_environment_are_not_cached(tree, tmp_path
         assert report.file_hits == (0 if name == "one" else 1)  # robot_c only
 
 
+def test_a_mesh_failing_for_its_bytes_is_reused_though_its_message_names_it(tree,
+                                                                              tmp_path):
+    """An element dropped because its mesh holds no triangles (a fault of the file's
+    bytes whose message names the mesh): the file's result is reused by the next run,
+    until that mesh changes."""
+    empty = tree / "pkg_a" / "meshes" / "empty.obj"
+    empty.write_text("# no faces\nv 0 0 0\n")
+    (tree / "pkg_a" / "robot_a.urdf").write_text(robot(
+        "a", link("base", '<mesh filename="meshes/box.stl"/>')
+        .replace("</link>", '<collision><geometry><mesh filename="meshes/empty.obj"/>'
+                            "</geometry></collision></link>")))
+    options = FixOptions(recompute="all")
+    cache = tmp_path / "c"
+
+    def run(name):
+        return run_batch(collect_jobs([tree / "pkg_a" / "robot_a.urdf"], tmp_path / name),
+                         options, BatchSettings(cache_dir=cache))
+
+    first = run("one")
+    (outcome,) = first.outcomes
+    assert outcome.error is None and any("holds no triangles" in p for p in outcome.problems)
+    assert first.file_hits == 0
+    second = run("two")
+    assert second.file_hits == 1
+    assert second.outcomes[0].problems == outcome.problems
+    assert (tmp_path / "two" / "robot_a.urdf").read_bytes() == \
+        (tmp_path / "one" / "robot_a.urdf").read_bytes()
+    trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(empty)  # the mesh is mended
+    third = run("three")
+    assert third.file_hits == 0 and not third.outcomes[0].problems
+
+
 def test_a_warm_run_writes_every_output_and_keeps_the_order(tree, tmp_path):
     settings = BatchSettings(cache_dir=tmp_path / "c")
     run_batch(collect_jobs([tree], tmp_path / "cold"), STRICT_ALL, settings)

@@ -340,7 +340,8 @@ class MeshLibrary:
         for _, _, path in trace:
             if path:
                 found = self._memo.get(Path(path))
-                if found is not None and not cacheable(found, Path(path)):
+                if found is not None and not cacheable(found, Path(path)) and not (
+                        isinstance(found, MeshError) and found.of_bytes):
                     return False
         return True
 

@@ -83,7 +83,7 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
     except Exception as exc:  # a scene graph trimesh built from corrupt data
         raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
     if len(faces) == 0:
-        raise MeshError(f"mesh {path} holds no triangles")
+        raise MeshError(f"mesh {path} holds no triangles", of_bytes=True)
     if suffix == ".dae" and data is not None:
         unit = _collada_unit(data[:_UNIT_HEAD])
     else:
@@ -92,9 +92,10 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
     if unit and not np.isclose(unit, 1.0):
         vertices = vertices * unit
     if not np.all(np.isfinite(vertices)):
-        raise MeshError(f"mesh {path} has non-finite vertex coordinates")
+        raise MeshError(f"mesh {path} has non-finite vertex coordinates", of_bytes=True)
     if np.abs(vertices).max() > MAX_COORDINATE:
-        raise MeshError(f"mesh {path} has vertex coordinates beyond {MAX_COORDINATE:g} m")
+        raise MeshError(f"mesh {path} has vertex coordinates beyond {MAX_COORDINATE:g} m",
+                        of_bytes=True)
     return TriangleMesh(vertices, faces)
 
 
@@ -135,7 +136,7 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
 def _too_large(path: Path, size: int, limit: int, max_faces: int) -> MeshError:
     return MeshError(f"mesh {path} is {size} bytes, more than the limit {limit} bytes "
                      f"({BYTES_PER_FACE} bytes per face of --max-faces {max_faces}; "
-                     "raise it with --max-faces)", code="mesh-too-large")
+                     "raise it with --max-faces)", code="mesh-too-large", of_bytes=True)
 
 
 def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
@@ -180,7 +181,8 @@ _NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
 
 def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
     return MeshError(f"mesh {path} has {faces} faces, more than the limit "
-                     f"{max_faces} (raise it with --max-faces)", code="mesh-too-large")
+                     f"{max_faces} (raise it with --max-faces)", code="mesh-too-large",
+                     of_bytes=True)
 
 
 def _load_scene(path: Path, suffix: str) -> Any:
@@ -333,9 +335,10 @@ def _concatenate(pieces: list[Piece], path: Path, max_faces: int
         v = np.asarray(piece.vertices, dtype=np.float64)
         f = np.asarray(piece.faces, dtype=np.int64)
         if f.ndim != 2 or f.shape[1] != 3 or v.ndim != 2 or v.shape[1] != 3:
-            raise MeshError(f"mesh {path} has malformed triangle arrays")
+            raise MeshError(f"mesh {path} has malformed triangle arrays", of_bytes=True)
         if f.min() < 0 or f.max() >= len(v):
-            raise MeshError(f"mesh {path} has faces that index missing vertices")
+            raise MeshError(f"mesh {path} has faces that index missing vertices",
+                            of_bytes=True)
         if transform.tobytes() == _IDENTITY_BYTES:
             # what ``v @ I + 0`` gives, bit for bit, for finite coordinates (-0.0 becomes
             # 0.0; inf and NaN stay non-finite and are refused below), without a BLAS call
