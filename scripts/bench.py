@@ -88,7 +88,7 @@ def child_baseline(robots: Path) -> dict:
 
     start = time.perf_counter()
     refs = loaded = faces = failed = 0
-    for urdf in sorted(robots.rglob("*.urdf")):
+    for urdf in [robots] if robots.is_file() else sorted(robots.rglob("*.urdf")):
         try:
             root = etree.parse(str(urdf), etree.XMLParser(resolve_entities=False)).getroot()
         except etree.XMLSyntaxError:

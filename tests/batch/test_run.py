@@ -118,6 +118,33 @@ def test_results_are_identical_for_any_jobs_and_cache(tree, tmp_path):
         assert files == reference, name
 
 
+@pytest.mark.parametrize("cache", [True, False])
+def test_workers_start_only_for_enough_work(tree, tmp_path, monkeypatch, cache):
+    """Two workers are asked for: a run whose meshes still to compute are under the
+    threshold stays in this process, one over it starts them (with or without a cache),
+    and the outputs are the same."""
+    asked: list[int] = []
+
+    @contextlib.contextmanager
+    def recording(jobs, dask):
+        asked.append(jobs)
+        with threads(jobs, dask) as pool:
+            yield pool if jobs > 1 else None
+
+    monkeypatch.setattr(batch, "open_executor", recording)
+    sizes = sum(p.stat().st_size for p in (tree / "pkg_a" / "meshes").glob("*.stl"))
+    found = {}
+    for name, limit in (("small", sizes + 1), ("large", sizes)):
+        monkeypatch.setattr(batch, "WORKERS_FROM_BYTES", limit)
+        settings = BatchSettings(jobs=2, use_cache=cache, cache_dir=tmp_path / f"c-{name}")
+        report = run_batch(collect_jobs([tree], tmp_path / name), FixOptions(recompute="all"),
+                           settings)
+        assert not report.failed
+        found[name] = outputs(tmp_path / name)
+    assert asked == [1, 2]
+    assert found["small"] == found["large"]
+
+
 def test_batch_output_equals_the_single_file_command(tree, tmp_path):
     source = tree / "pkg_a" / "robot_a.urdf"
     # the outputs land in different folders: mesh references kept, so the bytes compare

@@ -48,6 +48,11 @@ if TYPE_CHECKING:
 #: Threads writing the outputs of a run whose every file came from the cache: each write
 #: waits for its fsyncs, which overlap in threads.
 WRITER_THREADS = 8
+#: Bytes of mesh files still to compute below which a run stays in one process: each
+#: worker first imports numpy, scipy, trimesh and manifold3d (about 1.5 CPU seconds),
+#: and the repair takes about half a second per megabyte of mesh file (example-robot-data:
+#: 355 MB in 165 s), so two workers pay for themselves from a few megabytes on.
+WORKERS_FROM_BYTES = 6 << 20
 
 
 #: progress(kind, done, total) with kind "meshes" or "files".
@@ -123,6 +128,25 @@ class _Run:
         self.total_meshes = 0
         self.done_meshes = 0
 
+    def workers(self, needs: Sequence[Sequence[Path]],
+                point_needs: Sequence[Sequence[Path]]) -> int:
+        """How many worker processes the meshes of ``needs`` (solids) and ``point_needs``
+        (hull points) are worth: ``settings.jobs``, or 1 (this process) when what is
+        not in the cache is under :data:`WORKERS_FROM_BYTES` of mesh files (a file that
+        cannot be opened needs no work: its file's task says why)."""
+        jobs = self.settings.jobs
+        if jobs <= 1 or self.settings.dask:
+            return jobs
+        work = 0
+        solids = dict.fromkeys(p for paths in needs for p in paths)
+        for p in solids:
+            if p not in self.meshes and not self.lookup_cache(p):
+                work += _size(p)
+        for p in dict.fromkeys(p for paths in point_needs for p in paths):
+            if p not in solids and p not in self.points and not self.lookup_points(p):
+                work += _size(p) // 5  # reading and a hull: a fifth of a repair
+        return jobs if work >= WORKERS_FROM_BYTES else 1
+
     def lookup_cache(self, path: Path) -> bool:
         """Fill ``self.meshes[path]`` from the cache; False when it must be computed."""
         if self.cache is None:
@@ -173,9 +197,10 @@ class _Run:
         ``on_ready`` may submit more work to ``pool``; :meth:`drain` collects it.
         """
         distinct = list(dict.fromkeys(p for paths in needs for p in paths))
-        todo = [p for p in distinct if not self.lookup_cache(p)]
+        todo = [p for p in distinct if p not in self.meshes and not self.lookup_cache(p)]
         wanted = dict.fromkeys(p for paths in point_needs for p in paths)
-        missing_points = {p for p in wanted if not self.lookup_points(p)}
+        missing_points = {p for p in wanted
+                          if p not in self.points and not self.lookup_points(p)}
         # identical bytes under two names (copied packages) are integrated once
         by_key: dict[str, list[Path]] = {}
         groups: list[list[Path]] = []
@@ -285,11 +310,7 @@ def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: Batch
     with run.times.stage("xml"):
         needs, point_needs = zip(*(mesh_needs(Path(u), options) for u in urdfs),
                                  strict=True) if urdfs else ((), ())
-    distinct = dict.fromkeys(p for paths in needs for p in paths)
-    # as in _fix_all: no worker processes when there is nothing to compute
-    jobs = 1 if all(run.lookup_cache(p) or p not in run.keys for p in distinct) else \
-        settings.jobs
-    with open_executor(jobs, settings.dask) as pool:
+    with open_executor(run.workers(needs, point_needs), settings.dask) as pool:
         if pool is not None:
             run.prepare(pool, needs, lambda i: None, point_needs)
             run.drain(lambda payload, fut: None)
@@ -406,16 +427,15 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
     jobs_now = settings.jobs
     if jobs_now > 1 and not settings.dask:
         read_needs()
-        distinct = dict.fromkeys(p for paths in needs for p in paths)
-        # nothing to compute (every mesh cached, or a file no reader can open): starting
-        # worker processes would cost more than the files themselves
-        if all(run.lookup_cache(p) or p not in run.keys for p in distinct):
-            jobs_now = 1
+        # little to compute: starting worker processes would cost more than they save
+        jobs_now = run.workers(needs, point_needs)
     with open_executor(jobs_now, settings.dask) as pool:
         if pool is None:
             library = MeshLibrary(options.package_dirs, options.max_faces, cache)
             for path, outcome in run.meshes.items():
                 library.seed(path, outcome)
+            for path, points in run.points.items():
+                library.seed_points(path, points)
             times.merge(run.times)  # the look-ups above; each file brings its own times
             for i in todo:
                 finish(i, fix_with_library(jobs[i].source, options, library,

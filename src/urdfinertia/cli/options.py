@@ -59,8 +59,10 @@ def positive_float(text: str) -> float:
 def add_geometry_source_arguments(p: argparse.ArgumentParser) -> None:
     """Which geometry, where packages are, how large a mesh: every command reading meshes."""
     p.add_argument("--geometry", choices=GEOMETRY_MODES, default="auto",
-                   help="geometry to use: auto = collision when the link has any, "
-                        "else visual (default: auto)")
+                   help="geometry to use (default: auto): auto judges a written "
+                        "inertial against the collision geometry when the link has any, "
+                        "else the visual, and derives from the set that best represents "
+                        "the body, per link")
     p.add_argument("--package-dir", type=package_dir, action="append", default=[],
                    metavar="NAME=PATH", help="where package://NAME/ points (repeatable)")
     p.add_argument("--xacro-arg", type=xacro_arg, action="append", default=[],
