@@ -3,6 +3,8 @@
 import subprocess
 import sys
 
+import pytest
+
 import urdfinertia
 
 
@@ -39,3 +41,13 @@ def test_fix_file_through_the_public_api(robots_dir):
     assert set(totals) >= {"link1", "link2", "link3"}
     assert all(isinstance(t, urdfinertia.MassProperties) and t.is_physical()
                for t in totals.values())
+
+
+def test_an_unknown_option_names_itself_and_the_known_ones(robots_dir):
+    with pytest.raises(TypeError) as caught:
+        urdfinertia.fix(robots_dir / "nm7mar.urdf", output="out.urdf")
+    message = str(caught.value)
+    assert "'output'" in message and "result.save(path)" in message
+    assert "density" in message and "geometry" in message
+    with pytest.raises(TypeError, match="unknown options 'colour', 'size'"):
+        urdfinertia.fix(robots_dir / "nm7mar.urdf", colour=1, size=2)

@@ -59,9 +59,20 @@ def _xacro_options(func: _F) -> _F:
 def make_options(**options: Any) -> FixOptions:
     """:class:`FixOptions` from keyword arguments; ``spec`` may be a path, ``package_dirs``
     a mapping of names to folders given as strings or paths."""
+    import dataclasses
+
     from urdfinertia.link.options import FixOptions
     from urdfinertia.link.spec import load_spec
 
+    known = [f.name for f in dataclasses.fields(FixOptions)]
+    unknown = [name for name in options if name not in known]
+    if unknown:
+        hint = (" (fix writes nothing: save the result with result.save(path), or use "
+                "`urdf-inertia fix -o`)" if {"output", "out", "in_place"} & set(unknown)
+                else "")
+        raise TypeError(f"unknown option{'s' if len(unknown) > 1 else ''} "
+                        f"{', '.join(map(repr, unknown))}{hint}; the options are "
+                        f"{', '.join(known)}")
     spec = options.get("spec")
     if isinstance(spec, str | Path):
         options["spec"] = load_spec(spec)
