@@ -170,3 +170,33 @@ def test_the_wall_is_in_metres_after_the_mesh_scale(urdf: Path, scale: str) -> N
     assert result.after.mass == pytest.approx(mass, rel=1e-6)  # float32 STL
     np.testing.assert_allclose(result.after.inertia, inertia, rtol=1e-6, atol=1e-15)
     assert result.assembly.parts[0].part.method == "mesh shell (exact offset: simple corners)"
+
+
+def test_a_mesh_shell_comes_from_the_mesh_cache_the_second_time(
+        urdf: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The repair and the offset (or voxels) of a mesh shell are kept in the mesh cache:
+    a second run reads no mesh and gives the same part; another wall is computed anew."""
+    from urdfinertia.cache import library
+    from urdfinertia.link import parts
+
+    monkeypatch.setenv("URDFINERTIA_CACHE_DIR", str(tmp_path / "cache"))
+    box = trimesh.creation.box(extents=SIZE)
+    fin = trimesh.creation.box(extents=[0.08, 0.0015, 0.03])
+    fin.apply_translation([0, 0, 0.034])
+    trimesh.boolean.union([box, fin], engine="manifold").export(urdf.parent / "fin.stl")
+    part = 'mesh = { filename = "fin.stl" }\nmaterial = "PLA"\ninfill = 0.2\n'
+    first = _fix(urdf, part + "shell = { thickness = 0.002 }")
+
+    def no_reading(*args: object) -> None:
+        raise AssertionError("read a mesh the cache holds")
+
+    monkeypatch.setattr(library, "load_mesh", no_reading)
+    monkeypatch.setattr(parts, "load_mesh", no_reading)
+    second = _fix(urdf, part + "shell = { thickness = 0.002 }")
+    (a,), (b,) = ([pr.part for pr in r.assembly.parts] for r in (first, second))
+    assert (a.method, a.notes, a.provenance, a.uncertainty) == \
+        (b.method, b.notes, b.provenance, b.uncertainty)
+    assert second.after.mass == first.after.mass
+    np.testing.assert_array_equal(second.after.inertia, first.after.inertia)
+    with pytest.raises(AssertionError, match="the cache holds"):
+        _fix(urdf, part + "shell = { thickness = 0.003 }")

@@ -307,6 +307,22 @@ class MeshLibrary:
         return (numbers[:3 * n].reshape(-1, 3), numbers[3 * n:].astype(np.int64).reshape(-1, 3),
                 faces, str(header.get("method", "")))
 
+    def derived(self, path: Path, kind: str,
+                make: Callable[[TriangleMesh], tuple[dict, np.ndarray]],
+                valid: Callable[[dict, np.ndarray], bool]) -> tuple[dict, np.ndarray]:
+        """``(header, numbers)`` that ``make`` derives from the mesh file at ``path``
+        (JSON-able header, float64 numbers), in the persistent cache under ``kind`` (a
+        name safe in a file name, unique to what else ``make`` depends on): a warm run
+        reads neither the file nor computes again. Entries ``valid`` rejects are remade.
+
+        Raises
+        ------
+        MeshError
+            As :func:`~urdfinertia.mesh.read.load.load_mesh`, or as ``make``.
+        """
+        header, numbers, _ = self._derived(self._key(path), kind, make, valid)
+        return header, numbers
+
     def _derived(self, key: Path, kind: str,
                  make: Callable[[TriangleMesh], tuple[dict, np.ndarray]],
                  valid: Callable[[dict, np.ndarray], bool],

@@ -35,8 +35,8 @@ from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.polyhedron import mass_properties_from_integrals, solid_integrals
 from urdfinertia.link.shell_voxels import voxel_shell
 from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
-from urdfinertia.mesh.read.load import load_mesh
-from urdfinertia.mesh.repair.pipeline import repair_mesh
+from urdfinertia.mesh.read.load import TriangleMesh, load_mesh
+from urdfinertia.mesh.repair.pipeline import RepairedMesh, repair_mesh
 
 if TYPE_CHECKING:
     from urdfinertia.mesh.solids import MeshSolids
@@ -299,13 +299,53 @@ def _cross_check(found: shell.Shell, vertices: np.ndarray, faces: np.ndarray,
                                f"cm^3 +- {coarse.error:.0%})")
 
 
+#: Numbers per body of a cached mesh shell: mass, CoM (3), tensor (9), uncertainty.
+_SHELL_NUMBERS = 14
+
+
 def _mesh_shells(shape: Mesh, walls: Walls, meshes: MeshSource, base_dir: Path,
                  ) -> list[BodySolid]:
     """Each repaired body of the mesh shelled in the scaled frame (the wall's thickness
-    is in metres after ``<mesh scale>``)."""
+    is in metres after ``<mesh scale>``), in the mesh cache when ``meshes`` keeps one
+    (:meth:`MeshLibrary.derived`): a shell costs a repair and an offset or voxels."""
     path = meshes.resolve(shape.filename, base_dir)
-    max_faces = getattr(meshes, "max_faces", DEFAULT_MAX_FACES)
-    repaired = repair_mesh(load_mesh(path, max_faces))
+    derived = getattr(meshes, "derived", None)
+    if derived is None:
+        max_faces = getattr(meshes, "max_faces", DEFAULT_MAX_FACES)
+        return _shelled_bodies(repair_mesh(load_mesh(path, max_faces)), shape, walls)
+    import hashlib
+
+    what = repr((walls.thickness, walls.infill, tuple(float(v) for v in shape.scale)))
+    kind = "shell-" + hashlib.blake2b(what.encode(), digest_size=10).hexdigest()
+
+    def make(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
+        bodies = _shelled_bodies(repair_mesh(mesh), shape, walls)
+        header = {"walls": what, "bodies": [
+            {"method": b.method, "notes": list(b.notes), "provenance": b.provenance,
+             "uncertain": b.uncertainty is None} for b in bodies]}
+        numbers = np.concatenate([np.concatenate((
+            [b.unit.mass], b.unit.com, b.unit.inertia.ravel(),
+            [0.0 if b.uncertainty is None else b.uncertainty])) for b in bodies])
+        return header, numbers
+
+    def valid(header: dict, numbers: np.ndarray) -> bool:
+        bodies = header.get("bodies")
+        return (header.get("walls") == what and isinstance(bodies, list) and bool(bodies)
+                and len(numbers) == _SHELL_NUMBERS * len(bodies))
+
+    header, numbers = derived(path, kind, make, valid)
+    out = []
+    for i, body in enumerate(header["bodies"]):
+        row = numbers[_SHELL_NUMBERS * i:_SHELL_NUMBERS * (i + 1)]
+        unit = MassProperties(float(row[0]), row[1:4].copy(), row[4:13].reshape(3, 3).copy())
+        out.append(BodySolid(unit, str(body["method"]), tuple(body["notes"]),
+                             str(body["provenance"]),
+                             None if body["uncertain"] else float(row[13])))
+    return out
+
+
+def _shelled_bodies(repaired: RepairedMesh, shape: Mesh, walls: Walls) -> list[BodySolid]:
+    """Each body of ``repaired`` scaled as ``shape`` says and shelled as ``walls`` say."""
     scale = np.asarray(shape.scale, dtype=np.float64)
     mirrored = math.prod(shape.scale) < 0
     out = []
