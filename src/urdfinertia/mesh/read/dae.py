@@ -16,11 +16,27 @@ import io
 
 import numpy as np
 
+from urdfinertia.mesh.read.collada import NeedsPycollada, read_collada
 from urdfinertia.mesh.read.common import Piece
 
 
 def read_dae(data: bytes, max_faces: int) -> list[Piece]:
-    """Every triangle-set instance of a COLLADA document, in its world frame."""
+    """Every triangle-set instance of a COLLADA document, in its world frame.
+
+    The direct reader (:func:`.collada.read_collada`) gives trimesh's arrays at less
+    cost; what it does not reproduce is read by trimesh's loader (:func:`read_dae_trimesh`).
+    """
+    try:
+        return read_collada(data)
+    except (MemoryError, RecursionError):
+        raise
+    except Exception:  # noqa: BLE001 - NeedsPycollada, or a document trimesh also fails on:
+        # its loader gives the outcome (and the error message) of record
+        return read_dae_trimesh(data, max_faces)
+
+
+def read_dae_trimesh(data: bytes, max_faces: int) -> list[Piece]:
+    """:func:`read_dae` through ``trimesh.exchange.dae.load_collada`` (pycollada)."""
     from trimesh.exchange.dae import load_collada
 
     loaded = load_collada(io.BytesIO(data))
