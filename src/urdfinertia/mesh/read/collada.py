@@ -90,7 +90,7 @@ def _ignores() -> list[type]:
 def _document_class() -> type:
     import collada
 
-    class Document(collada.Collada):  # type: ignore[misc]
+    class Document(collada.Collada):
         """pycollada's document with this module's geometry library."""
 
         def _loadGeometry(self) -> None:  # noqa: N802 - pycollada's name

@@ -16,7 +16,7 @@ import io
 
 import numpy as np
 
-from urdfinertia.mesh.read.collada import NeedsPycollada, read_collada
+from urdfinertia.mesh.read.collada import read_collada
 from urdfinertia.mesh.read.common import Piece
 
 
