@@ -713,3 +713,21 @@ DAE_CORPUS = [p for p in CORPUS if p.suffix.lower() == ".dae"]
                                                   for p in DAE_CORPUS])
 def test_corpus_dae_direct_reader_gives_trimesh_bytes(path):
     assert same_pieces(path.read_bytes()) == "direct"
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_numbers_counted_as_numpy_parses_them(seed):
+    """The direct reader counts the numbers of the arrays it does not parse; the count
+    is that of ``numpy.fromstring`` for every layout of white space."""
+    from urdfinertia.mesh.read.collada import _count_numbers
+
+    rng = np.random.default_rng(seed)
+    for _ in range(300):
+        numbers = [f"{v:.{rng.integers(1, 12)}g}" for v in
+                   rng.normal(size=rng.integers(1, 30)) * 10.0 ** rng.integers(-9, 9)]
+        spaces = [str(rng.choice([" ", "  ", "\n", "\t", " \r\n  ", "\n\t\t"]))
+                  for _ in range(len(numbers) + 1)]
+        text = "".join(s + n for s, n in zip(spaces, numbers)) + spaces[-1] * int(seed == 1)
+        if seed == 2:
+            text = " ".join(numbers)  # the common layout
+        assert _count_numbers(text) == len(np.fromstring(text, sep=" ")) == len(numbers)

@@ -35,6 +35,7 @@ class NeedsPycollada(Exception):
 
 #: Bytes a float array may hold for its numbers to be counted without parsing them.
 _NUMBER_BYTES = b"0123456789+-.eE \t\n\r\v\f"
+_NUMBER_OR_SPACE = b"0123456789+-.eE "
 #: White space (numpy's separator " " matches any run of it) as a plain space.
 _SPACES = bytes.maketrans(b"\t\n\r\v\f", b"     ")
 
@@ -142,12 +143,12 @@ class _Source:
         array = node.find(tag("float_array"))
         if array is None:
             raise NeedsPycollada("a source without float_array")
-        self.text = array.text
+        self._array = array  # its text is read when needed (a str the size of the array)
         params = node.findall(f"{tag('technique_common')}/{tag('accessor')}/{tag('param')}")
         if not params:
             raise NeedsPycollada("a source without accessor")
         components = tuple(p.get("name") for p in params)
-        self.values = _count_numbers(self.text)
+        self.values = _count_numbers(array.text)
         if components == ("U", "V"):
             components = ("S", "T")
         if components == ("S", "T", "P"):
@@ -169,10 +170,11 @@ class _Source:
         if self._data is None:
             if self._stp or not _fits(self.components, 3, ("X", "Y", "Z")):
                 raise NeedsPycollada("positions without three components")
-            if self.text is None or self.text.isspace():
+            text = self._array.text
+            if text is None or text.isspace():
                 data = np.array([], dtype=np.float32)
             else:
-                data = _fromstring(self.text, np.float32)
+                data = _fromstring(text, np.float32)
                 data[np.isnan(data)] = 0
             if len(data) != self.values:
                 raise NeedsPycollada("numbers pycollada would count otherwise")
@@ -198,6 +200,9 @@ def _count_numbers(text: str | None) -> int:
         raw = text.encode("ascii")
     except UnicodeEncodeError:
         raise NeedsPycollada("non-ASCII numbers") from None
+    if not raw.translate(None, _NUMBER_OR_SPACE) and b"  " not in raw:
+        # the common layout: numbers between single spaces
+        return raw.count(b" ") + 1 - raw.startswith(b" ") - raw.endswith(b" ")
     if raw.translate(None, _NUMBER_BYTES):
         raise NeedsPycollada("a float array with other characters")
     spaced = raw.translate(_SPACES).strip(b" ")

@@ -1,6 +1,7 @@
-"""COLLADA through trimesh's own loader (``trimesh.exchange.dae.load_collada``, pycollada).
+"""COLLADA as trimesh's own loader (``trimesh.exchange.dae.load_collada``, pycollada) reads it.
 
-Called directly, without ``trimesh.load``'s scene machinery. pycollada's tolerance is
+First by the direct reader (:mod:`.collada`: the same arrays, bit for bit, without parsing
+the sources a mesh does not need), else by that loader, called directly, without ``trimesh.load``'s scene machinery. pycollada's tolerance is
 kept (a geometry, node or material it cannot load is left out); what it does not read
 (``<tristrips>``, controllers) holds no triangles here either. Every ``<triangles>`` or
 ``<polylist>`` instance is one piece: an unwelded triangle soup placed by its node's
