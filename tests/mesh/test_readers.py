@@ -727,7 +727,8 @@ def test_numbers_counted_as_numpy_parses_them(seed):
                    rng.normal(size=rng.integers(1, 30)) * 10.0 ** rng.integers(-9, 9)]
         spaces = [str(rng.choice([" ", "  ", "\n", "\t", " \r\n  ", "\n\t\t"]))
                   for _ in range(len(numbers) + 1)]
-        text = "".join(s + n for s, n in zip(spaces, numbers)) + spaces[-1] * int(seed == 1)
+        text = "".join(s + n for s, n in zip(spaces[:-1], numbers, strict=True))
+        text += spaces[-1] * int(seed == 1)
         if seed == 2:
             text = " ".join(numbers)  # the common layout
         assert _count_numbers(text) == len(np.fromstring(text, sep=" ")) == len(numbers)

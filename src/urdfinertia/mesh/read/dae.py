@@ -1,14 +1,15 @@
-"""COLLADA as trimesh's own loader (``trimesh.exchange.dae.load_collada``, pycollada) reads it.
+"""COLLADA as trimesh's own loader (``trimesh.exchange.dae.load_collada``) reads it.
 
 First by the direct reader (:mod:`.collada`: the same arrays, bit for bit, without parsing
-the sources a mesh does not need), else by that loader, called directly, without ``trimesh.load``'s scene machinery. pycollada's tolerance is
-kept (a geometry, node or material it cannot load is left out); what it does not read
-(``<tristrips>``, controllers) holds no triangles here either. Every ``<triangles>`` or
-``<polylist>`` instance is one piece: an unwelded triangle soup placed by its node's
-world matrix; the repair's weld joins the corners (the mass properties are those of the
-welded surface, checked against ``trimesh.load`` on every mesh of example-robot-data).
-The caller has refused hostile XML (entities, external DTDs) and zipped files, checked
-the declared face count, and applies ``<unit meter>``.
+the sources a mesh does not need), else by that loader, called directly, without
+``trimesh.load``'s scene machinery. pycollada's tolerance is kept (a geometry, node or
+material it cannot load is left out); what it does not read (``<tristrips>``,
+controllers) holds no triangles here either. Every ``<triangles>`` or ``<polylist>``
+instance is one piece: an unwelded triangle soup placed by its node's world matrix; the
+repair's weld joins the corners (the mass properties are those of the welded surface,
+checked against ``trimesh.load`` on every mesh of example-robot-data). The caller has
+refused hostile XML (entities, external DTDs) and zipped files, checked the declared
+face count, and applies ``<unit meter>``.
 """
 
 from __future__ import annotations
