@@ -70,6 +70,8 @@ def read_collada(data: bytes) -> list[Piece]:
                 if material.target.id not in material_map:
                     _parse_material(material.target, None)
             for primitive in node.geometry.primitives:
+                if not isinstance(primitive, _Triangles):  # a pycollada without our hook
+                    raise NeedsPycollada("geometry not read by this module")
                 pieces.append(Piece(primitive.vertices, primitive.faces, parent))
         elif isinstance(node, collada.scene.Node) and node.children is not None:
             children = []
