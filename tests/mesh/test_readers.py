@@ -188,6 +188,34 @@ def test_identity_pieces_skip_the_matrix_product_bit_for_bit():
     assert np.array_equal(single_f, f) and single_f is not f
 
 
+@pytest.mark.parametrize("grown", [0, 100, 10_000])
+def test_native_file_that_grew_since_stat(tmp_path, monkeypatch, grown):
+    """The bytes are read up to the stated size, then on to the limit: a file that grew
+    past the limit after its size was checked is refused, one within it is read whole."""
+    import os
+
+    path = write(tmp_path, "t.stl", ascii_stl(TETRA))
+    real_stat = Path.stat
+    size = path.stat().st_size
+    path.write_bytes(path.read_bytes() + b" " * grown)
+
+    def stated(self, *args, **kwargs):
+        info = real_stat(self, *args, **kwargs)
+        if self == path:
+            return os.stat_result((info.st_mode, *info[1:6], size, *info[7:]))
+        return info
+
+    monkeypatch.setattr(limits, "BASE_MESH_BYTES", 0)
+    monkeypatch.setattr(Path, "stat", stated)
+    limit = limits.max_mesh_bytes(10)
+    assert size < limit < size + 10_000
+    if size + grown > limit:
+        with pytest.raises(MeshError, match="more than the limit"):
+            mesh_io.load_mesh(path, 10)
+    else:
+        assert len(mesh_io.load_mesh(path, 10).faces) == 4
+
+
 @pytest.mark.parametrize("suffix", NATIVE_SUFFIXES)
 def test_over_size_native_file_never_opened(tmp_path, monkeypatch, suffix):
     path = write(tmp_path, "big" + suffix, b"# padding\n" * 100)

@@ -114,7 +114,11 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
         data = None
         with open(path, "rb") as stream:
             if suffix in _NATIVE:
-                data = stream.read(limit + 1)
+                # a read of the stated size (a read of limit + 1 bytes would reserve
+                # that much memory first), then of the rest up to the limit
+                data = stream.read(info.st_size + 1)
+                if len(data) > info.st_size:
+                    data += stream.read(limit + 1 - len(data))
                 if len(data) > limit:  # the file grew since stat
                     raise _too_large(path, len(data), limit, max_faces)
                 declared = declared_faces_in(data, suffix)
