@@ -188,6 +188,34 @@ def test_identity_pieces_skip_the_matrix_product_bit_for_bit():
     assert np.array_equal(single_f, f) and single_f is not f
 
 
+@pytest.mark.parametrize("grown", [0, 100, 10_000])
+def test_native_file_that_grew_since_stat(tmp_path, monkeypatch, grown):
+    """The bytes are read up to the stated size, then on to the limit: a file that grew
+    past the limit after its size was checked is refused, one within it is read whole."""
+    import os
+
+    path = write(tmp_path, "t.stl", ascii_stl(TETRA))
+    real_stat = Path.stat
+    size = path.stat().st_size
+    path.write_bytes(path.read_bytes() + b" " * grown)
+
+    def stated(self, *args, **kwargs):
+        info = real_stat(self, *args, **kwargs)
+        if self == path:
+            return os.stat_result((info.st_mode, *info[1:6], size, *info[7:]))
+        return info
+
+    monkeypatch.setattr(limits, "BASE_MESH_BYTES", 0)
+    monkeypatch.setattr(Path, "stat", stated)
+    limit = limits.max_mesh_bytes(10)
+    assert size < limit < size + 10_000
+    if size + grown > limit:
+        with pytest.raises(MeshError, match="more than the limit"):
+            mesh_io.load_mesh(path, 10)
+    else:
+        assert len(mesh_io.load_mesh(path, 10).faces) == 4
+
+
 @pytest.mark.parametrize("suffix", NATIVE_SUFFIXES)
 def test_over_size_native_file_never_opened(tmp_path, monkeypatch, suffix):
     path = write(tmp_path, "big" + suffix, b"# padding\n" * 100)
@@ -604,3 +632,131 @@ def test_corrupt_bytes_same_error(tmp_path, suffix, seed):
     path = write(tmp_path, "c" + suffix, bytes(data[: int(rng.integers(len(data) // 2,
                                                                        len(data) + 1))]))
     assert_same_as_trimesh(path)
+
+
+# --- the direct COLLADA reader against trimesh's loader, bit for bit ---------------------
+
+def same_pieces(data: bytes) -> str:
+    """Reads ``data`` with :func:`read_dae` and with trimesh's loader (its reference), and
+    asserts the same pieces (vertex, face and transform bytes) or the same error; returns
+    how the direct reader took it ("direct", or the reason it handed the file over)."""
+    from urdfinertia.mesh.read.collada import NeedsPycollada, read_collada
+    from urdfinertia.mesh.read.dae import read_dae_trimesh
+
+    try:
+        read_collada(data)
+        how = "direct"
+    except NeedsPycollada as exc:
+        how = f"handed over: {exc}"
+    except Exception as exc:  # noqa: BLE001 - read_dae hands these over too
+        how = f"handed over: {type(exc).__name__}"
+
+    def pieces(reader):
+        try:
+            found = reader(data, mesh_io.DEFAULT_MAX_FACES)
+        except Exception as exc:  # noqa: BLE001 - errors are compared
+            return ("error", type(exc).__name__, str(exc))
+        return [(p.vertices.dtype, p.vertices.shape, p.vertices.tobytes(), p.faces.dtype,
+                 p.faces.tobytes(), np.asarray(p.transform).tobytes())
+                for p in found if len(p.faces)]
+
+    assert pieces(read_dae) == pieces(read_dae_trimesh)
+    return how
+
+
+def _uv_triangles() -> tuple[str, str]:
+    uv = """<source id="g-uv"><float_array id="g-uv-array" count="6">0 0 1 0 0 1</float_array>
+      <technique_common><accessor source="#g-uv-array" count="3" stride="2">
+        <param name="S" type="float"/><param name="T" type="float"/></accessor>
+      </technique_common></source>"""
+    prim = TRIANGLES.replace('offset="1"/>', 'offset="1"/>\n<input semantic="TEXCOORD" '
+                             'source="#g-uv" offset="2" set="0"/>')
+    prim = prim.replace("<p>0 0 2 0 1 0  0 0 3 0 2 0  0 1 1 1 4 1  1 2 2 2 4 2</p>",
+                        "<p>0 0 0 2 0 1 1 0 2  0 0 1 3 0 0 2 0 2  0 1 0 1 1 1 4 1 2  "
+                        "1 2 0 2 2 1 4 2 2</p>")
+    return uv, prim
+
+
+LINES = """<lines count="2"><input semantic="VERTEX" source="#g-vertices" offset="0"/>
+  <p>0 1 1 2</p></lines>"""
+NODES = """<matrix>1 0 0 0.5  0 0 -1 0.25  0 1 0 0  0 0 0 1</matrix>
+  <node id="a"><translate>1 2 3</translate><rotate>0 0 1 30</rotate>
+    <scale>2 2 0.5</scale><instance_geometry url="#g"/><node id="c"><rotate>1 0 0 10</rotate>
+    <instance_geometry url="#g"/></node></node>
+  <node id="b"><rotate>1 1 0 45</rotate><scale>-1 1 1</scale><instance_geometry url="#g"/>
+  </node><instance_geometry url="#g"/>"""
+_UV, _UV_TRIANGLES = _uv_triangles()
+DIRECT_CASES = {
+    "triangles": collada(TRIANGLES),
+    "polylist": collada(POLYLIST),
+    "all-kinds": collada(POLYLIST + TRIANGLES + LINES),
+    "transforms": collada(TRIANGLES, NODES, unit="0.001"),
+    "texcoords": collada(_UV_TRIANGLES, mesh_extra=_UV),
+    "missing-material": collada(TRIANGLES, '<instance_geometry url="#g"><bind_material>'
+                                           '<technique_common><instance_material symbol="m" '
+                                           'target="#nowhere"/></technique_common>'
+                                           '</bind_material></instance_geometry>'),
+    "bad-transform": collada(TRIANGLES, '<translate>1 2</translate>'
+                                        '<instance_geometry url="#g"/>'),
+    "missing-geometry": collada(TRIANGLES, '<instance_geometry url="#other"/>'),
+    "empty-p": collada(TRIANGLES.replace(
+        "<p>0 0 2 0 1 0  0 0 3 0 2 0  0 1 1 1 4 1  1 2 2 2 4 2</p>", "<p> </p>")),
+    "exponents-and-signs": collada(TRIANGLES).replace(
+        POSITIONS, "+1.5e-1 -0 0" + POSITIONS[5:], 1),
+    "instance-node": collada(TRIANGLES, '<instance_node url="#lib"/>', extra=(
+        '<library_nodes><node id="lib"><translate>0 0 1</translate>'
+        '<instance_geometry url="#g"/></node></library_nodes>')),
+}
+HANDED_OVER_CASES = {
+    "polygons": collada(POLYGONS),
+    "tristrips": collada(TRIANGLES.replace("triangles", "tristrips")),
+    "comment-in-mesh": collada(TRIANGLES, mesh_extra="<!-- exported by hand -->"),
+    "index-beyond-normals": collada(TRIANGLES.replace("0 1 1 1 4 1", "0 1 1 1 4 7")),
+    "index-beyond-positions": collada(TRIANGLES.replace("0 1 1 1 4 1", "0 1 1 1 9 1")),
+    "ragged-normals": collada(TRIANGLES).replace(NORMALS, NORMALS + " 0.5", 1),
+    "nan-normals": collada(TRIANGLES).replace(NORMALS, NORMALS.replace("0", "nan", 1), 1),
+    "comma-numbers": collada(TRIANGLES).replace(POSITIONS, POSITIONS.replace(" ", ",", 1), 1),
+    "short-polygon": collada(POLYLIST.replace("<vcount>", "<vcount>2 ", 1)),
+    "no-scene": collada(TRIANGLES).replace('<instance_visual_scene url="#s"/>', ""),
+    "malformed-xml": collada(TRIANGLES).replace("</COLLADA>", ""),
+}
+
+
+@pytest.mark.parametrize("case", sorted(DIRECT_CASES))
+def test_direct_collada_reader_gives_trimesh_bytes(case):
+    assert same_pieces(DIRECT_CASES[case].encode()) == "direct"
+
+
+@pytest.mark.parametrize("case", sorted(HANDED_OVER_CASES))
+def test_direct_collada_reader_hands_over_what_it_does_not_reproduce(case):
+    how = same_pieces(HANDED_OVER_CASES[case].encode())
+    assert how.startswith("handed over"), how
+
+
+DAE_CORPUS = [p for p in CORPUS if p.suffix.lower() == ".dae"]
+
+
+@pytest.mark.corpus
+@pytest.mark.parametrize("path", DAE_CORPUS, ids=[str(p.relative_to(ROBOTS))
+                                                  for p in DAE_CORPUS])
+def test_corpus_dae_direct_reader_gives_trimesh_bytes(path):
+    assert same_pieces(path.read_bytes()) == "direct"
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_numbers_counted_as_numpy_parses_them(seed):
+    """The direct reader counts the numbers of the arrays it does not parse; the count
+    is that of ``numpy.fromstring`` for every layout of white space."""
+    from urdfinertia.mesh.read.collada import _count_numbers
+
+    rng = np.random.default_rng(seed)
+    for _ in range(300):
+        numbers = [f"{v:.{rng.integers(1, 12)}g}" for v in
+                   rng.normal(size=rng.integers(1, 30)) * 10.0 ** rng.integers(-9, 9)]
+        spaces = [str(rng.choice([" ", "  ", "\n", "\t", " \r\n  ", "\n\t\t"]))
+                  for _ in range(len(numbers) + 1)]
+        text = "".join(s + n for s, n in zip(spaces[:-1], numbers, strict=True))
+        text += spaces[-1] * int(seed == 1)
+        if seed == 2:
+            text = " ".join(numbers)  # the common layout
+        assert _count_numbers(text) == len(np.fromstring(text, sep=" ")) == len(numbers)

@@ -1,13 +1,15 @@
-"""COLLADA through trimesh's own loader (``trimesh.exchange.dae.load_collada``, pycollada).
+"""COLLADA as trimesh's own loader (``trimesh.exchange.dae.load_collada``) reads it.
 
-Called directly, without ``trimesh.load``'s scene machinery. pycollada's tolerance is
-kept (a geometry, node or material it cannot load is left out); what it does not read
-(``<tristrips>``, controllers) holds no triangles here either. Every ``<triangles>`` or
-``<polylist>`` instance is one piece: an unwelded triangle soup placed by its node's
-world matrix; the repair's weld joins the corners (the mass properties are those of the
-welded surface, checked against ``trimesh.load`` on every mesh of example-robot-data).
-The caller has refused hostile XML (entities, external DTDs) and zipped files, checked
-the declared face count, and applies ``<unit meter>``.
+First by the direct reader (:mod:`.collada`: the same arrays, bit for bit, without parsing
+the sources a mesh does not need), else by that loader, called directly, without
+``trimesh.load``'s scene machinery. pycollada's tolerance is kept (a geometry, node or
+material it cannot load is left out); what it does not read (``<tristrips>``,
+controllers) holds no triangles here either. Every ``<triangles>`` or ``<polylist>``
+instance is one piece: an unwelded triangle soup placed by its node's world matrix; the
+repair's weld joins the corners (the mass properties are those of the welded surface,
+checked against ``trimesh.load`` on every mesh of example-robot-data). The caller has
+refused hostile XML (entities, external DTDs) and zipped files, checked the declared
+face count, and applies ``<unit meter>``.
 """
 
 from __future__ import annotations
@@ -16,11 +18,27 @@ import io
 
 import numpy as np
 
+from urdfinertia.mesh.read.collada import read_collada
 from urdfinertia.mesh.read.common import Piece
 
 
 def read_dae(data: bytes, max_faces: int) -> list[Piece]:
-    """Every triangle-set instance of a COLLADA document, in its world frame."""
+    """Every triangle-set instance of a COLLADA document, in its world frame.
+
+    The direct reader (:func:`.collada.read_collada`) gives trimesh's arrays at less
+    cost; what it does not reproduce is read by trimesh's loader (:func:`read_dae_trimesh`).
+    """
+    try:
+        return read_collada(data)
+    except (MemoryError, RecursionError):
+        raise
+    except Exception:  # noqa: BLE001 - NeedsPycollada, or a document trimesh also fails on:
+        # its loader gives the outcome (and the error message) of record
+        return read_dae_trimesh(data, max_faces)
+
+
+def read_dae_trimesh(data: bytes, max_faces: int) -> list[Piece]:
+    """:func:`read_dae` through ``trimesh.exchange.dae.load_collada`` (pycollada)."""
     from trimesh.exchange.dae import load_collada
 
     loaded = load_collada(io.BytesIO(data))

@@ -5,8 +5,9 @@ splitting into bodies happens later (:mod:`urdfinertia.mesh.solids`). COLLADA ``
 is honoured, as RViz and Gazebo do.
 
 The readers form a registry by suffix (``_NATIVE``): STL by this package's own reader
-(:mod:`.stl`: trimesh's arrays, less memory on ASCII files), OBJ and COLLADA by trimesh's
-own per-format loaders called directly (:mod:`.obj`, :mod:`.dae`); PLY, GLB/glTF and OFF,
+(:mod:`.stl`: trimesh's arrays, less memory on ASCII files), OBJ by trimesh's own loader
+called directly (:mod:`.obj`), COLLADA by a direct reader of trimesh's arrays with
+trimesh's loader behind it (:mod:`.dae`, :mod:`.collada`); PLY, GLB/glTF and OFF,
 and the rare STL the native reader leaves aside, through ``trimesh.load``. Every file is
 size-checked, face-counted and (COLLADA) scanned for hostile XML before a parser runs.
 """
@@ -114,7 +115,11 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
         data = None
         with open(path, "rb") as stream:
             if suffix in _NATIVE:
-                data = stream.read(limit + 1)
+                # a read of the stated size (a read of limit + 1 bytes would reserve
+                # that much memory first), then of the rest up to the limit
+                data = stream.read(info.st_size + 1)
+                if len(data) > info.st_size:
+                    data += stream.read(limit + 1 - len(data))
                 if len(data) > limit:  # the file grew since stat
                     raise _too_large(path, len(data), limit, max_faces)
                 declared = declared_faces_in(data, suffix)
