@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from urdfinertia.inertia.polyhedron import face_volumes
-from urdfinertia.mesh.repair.graph import boundary_edges
+from urdfinertia.mesh.repair.graph import EdgeTable, boundary_edges, sort_order
 from urdfinertia.mesh.repair.level_caps import level_caps, level_caps_points
 from urdfinertia.mesh.repair.loops import boundary_cycles, ordered_cycles
 from urdfinertia.mesh.repair.winding import RayCounter, winding_numbers
@@ -130,7 +130,8 @@ LEVEL_MIN_GAIN = 1e-3
 
 
 def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = True,
-                deadline: Deadline | None = None) -> tuple[np.ndarray, np.ndarray, HoleCaps]:
+                deadline: Deadline | None = None, table: EdgeTable | None = None,
+                ) -> tuple[np.ndarray, np.ndarray, HoleCaps]:
     """Cap every boundary loop of an oriented surface (see the module docstring).
 
     Parameters
@@ -142,6 +143,10 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
         False caps every loop with a fan only: cheaper, for a first look at the volume.
     deadline : Deadline, optional
         Checked between the steps of triangulations, votes and level caps.
+    table : EdgeTable, optional
+        Half-edges of ``faces`` grouped by edge, as :func:`~.graph.boundary_edges` reads
+        them (``edge_table(faces)``, or a table of the same edges whose half-edges run
+        as ``faces`` do), when the caller has it already.
 
     Raises
     ------
@@ -155,7 +160,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     faces : (m + caps, 3) int
     caps : HoleCaps
     """
-    edges = boundary_edges(faces)
+    edges = boundary_edges(faces, table)
     if len(edges) == 0:
         return vertices, faces, HoleCaps.none()
     n = len(vertices)
@@ -550,7 +555,10 @@ def _rim_normals(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
     head = np.roll(faces, -1, axis=1).reshape(-1)
     key_faces = tail.astype(np.int64) * (len(vertices) + 1) + head
     key_edges = edges[:, 0].astype(np.int64) * (len(vertices) + 1) + edges[:, 1]
-    order = np.argsort(key_faces)
+    order = sort_order(key_faces)
+    ordered = key_faces[order]
+    if np.any(ordered[1:] == ordered[:-1]):  # a half-edge twice: which one is found
+        order = np.argsort(key_faces)  # depends on the order within ties, kept as it was
     pos = np.searchsorted(key_faces[order], key_edges)
     at = order[np.clip(pos, 0, len(order) - 1)]
     face = at // 3

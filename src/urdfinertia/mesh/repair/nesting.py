@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from urdfinertia.mesh.repair.graph import sort_order
 from urdfinertia.mesh.repair.winding import closed_winding_numbers
 
 
@@ -24,7 +25,7 @@ def nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
     live = np.flatnonzero(~skip)
     if len(live) < 2:
         return final
-    order = np.argsort(label, kind="stable")
+    order = sort_order(label)
     bounds = np.searchsorted(label[order], np.arange(k + 1))
     tri = vertices[faces]
     corner_lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])

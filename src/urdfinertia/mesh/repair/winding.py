@@ -18,6 +18,8 @@ from collections.abc import Iterator
 import numpy as np
 from numpy.typing import ArrayLike
 
+from urdfinertia.mesh.repair.graph import sort_order
+
 #: Query points x triangles evaluated per chunk (bounds the temporary arrays to ~100 MB).
 CHUNK = 1_000_000
 
@@ -280,7 +282,7 @@ class RayCounter:
         cy = a[face, 0] + k % sy
         cz = a[face, 1] + k // sy
         key = cy * side + cz
-        order = face[np.argsort(key, kind="stable")]
+        order = face[sort_order(key)]
         count = np.bincount(key, minlength=side * side)
         start = np.cumsum(count) - count
         return origin, np.asarray(h), np.asarray(side), start, count, order
