@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from urdfinertia.inertia.polyhedron import used_vertices
+from urdfinertia.inertia.polyhedron import cross_rows, used_vertices
 
 
 def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -84,16 +84,18 @@ def _row_keys(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """:func:`unique_rows` of float rows by hashing their bits; None on a hash collision.
 
-    Equal rows are found by one sort of a 64-bit hash (then checked row by row, so a
-    collision falls back to the lexicographic sort); only the distinct rows are sorted
-    lexicographically. For an STL triangle soup, which repeats each vertex about six
-    times, that is several times cheaper than sorting every row on every column. The
-    first occurrence of each row represents it (``-0.0`` and ``0.0`` are one value), as
-    in the stable lexicographic sort.
+    Equal rows are found by one sort of a hash (the top bits of a 64-bit one; then
+    checked row by row, so a collision falls back to the lexicographic sort); only the
+    distinct rows are sorted lexicographically. For an STL triangle soup, which repeats
+    each vertex about six times, that is several times cheaper than sorting every row on
+    every column. The first occurrence of each row represents it (``-0.0`` and ``0.0``
+    are one value), as in the stable lexicographic sort.
     """
     columns, key = _row_keys(rows)
-    order = np.argsort(key)
-    ordered = key[order]
+    # the hash's top bits, leaving room to pack each row's position beside them
+    # (:func:`sort_order`): a shorter hash only makes the check below fail more often
+    keep = 63 - max(1, (len(key) - 1).bit_length())
+    order, ordered = _sorted_keys((key >> np.uint64(64 - keep)).astype(np.int64))
     new = np.empty(len(key), dtype=bool)
     new[0] = True
     np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
@@ -102,7 +104,7 @@ def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     first = np.minimum.reduceat(order, starts)  # first occurrence of each distinct row
     for column in columns:
         if not np.array_equal(column[order], column[first][group]):
-            return None  # a hash collision (never seen): sort instead
+            return None  # a hash collision (rare): sort instead
     distinct = rows[first]
     lex = np.lexsort(distinct.T[::-1])
     rank = np.empty(len(lex), dtype=np.int64)
@@ -218,8 +220,8 @@ def drop_degenerate(vertices: np.ndarray, faces: np.ndarray, area_tol: float,
     """Faces with three distinct vertices and an area above ``area_tol``."""
     distinct = ((faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2])
                 & (faces[:, 0] != faces[:, 2]))
-    tri = vertices[faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    tri = np.take(vertices, faces, axis=0)  # vertices[faces], a faster gather
+    area = 0.5 * np.linalg.norm(cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
     return faces[distinct & (area > area_tol)]
 
 

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from urdfinertia.inertia.polyhedron import face_volumes
+from urdfinertia.inertia.polyhedron import cross_rows, face_volumes
 from urdfinertia.mesh.repair.graph import EdgeTable, boundary_edges, sort_order
 from urdfinertia.mesh.repair.level_caps import level_caps, level_caps_points
 from urdfinertia.mesh.repair.loops import boundary_cycles, ordered_cycles
@@ -173,7 +173,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     perimeter = np.bincount(loop, weights=length, minlength=n_loops)
     centre = fan_v[n:]
     fan_tri = fan_v[fan_f]
-    cross = np.cross(fan_tri[:, 1] - fan_tri[:, 0], fan_tri[:, 2] - fan_tri[:, 0])
+    cross = cross_rows(fan_tri[:, 1] - fan_tri[:, 0], fan_tri[:, 2] - fan_tri[:, 0])
     loop_area = np.bincount(fan_loop, weights=0.5 * np.linalg.norm(cross, axis=1),
                             minlength=n_loops)
     vec = np.stack([np.bincount(fan_loop, weights=cross[:, k], minlength=n_loops)
@@ -481,7 +481,8 @@ def _triangle_cost(points: np.ndarray, rim: np.ndarray, i: np.ndarray, k: np.nda
     ``i, k, j`` are equal-shaped index arrays; the result has shape ``(L,) + i.shape``.
     """
     pi, pk, pj = points[:, i], points[:, k], points[:, j]
-    cross = np.cross(pk - pj, pi - pj)
+    # np.cross bit for bit, on the rows of the candidates
+    cross = cross_rows((pk - pj).reshape(-1, 3), (pi - pj).reshape(-1, 3)).reshape(pk.shape)
     norm = np.linalg.norm(cross, axis=-1)
     area_scale = scale.reshape((-1,) + (1,) * i.ndim) ** 2
     degenerate = norm <= 1e-12 * area_scale
@@ -563,7 +564,7 @@ def _rim_normals(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
     at = order[np.clip(pos, 0, len(order) - 1)]
     face = at // 3
     tri = vertices[faces[face]]
-    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    cross = cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     unit = cross / np.maximum(np.linalg.norm(cross, axis=1), 1e-300)[:, None]
     if missing_ok:
         unit[key_faces[at] != key_edges] = 0.0

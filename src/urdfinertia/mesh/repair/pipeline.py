@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from urdfinertia.errors import MeshError
-from urdfinertia.inertia.polyhedron import face_volumes, used_vertices
+from urdfinertia.inertia.polyhedron import cross_rows, face_volumes, used_vertices
 from urdfinertia.mesh.limits import OVER_BUDGET_NOTE, mesh_seconds
 from urdfinertia.mesh.read.load import TriangleMesh
 from urdfinertia.mesh.repair.graph import (
@@ -416,8 +416,8 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
         own_v, own_f, face_patch = _patch_copies(vertices, propagated, patch)
     n_patch = int(patch.max() + 1)
     centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
-    tri = vertices[faces] - centre
-    own_tri = tri if closed is not None else own_v[own_f] - centre
+    tri = np.take(vertices, faces, axis=0) - centre  # vertices[faces], a faster gather
+    own_tri = tri if closed is not None else np.take(own_v, own_f, axis=0) - centre
     volume = np.bincount(face_patch, weights=face_volumes(own_tri), minlength=n_patch)
     area = np.bincount(patch, weights=_areas(tri), minlength=n_patch)
     flat = ~(np.abs(volume) > FLAT_RTOL * area ** 1.5)
@@ -460,7 +460,7 @@ def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
     vertex_label[faces.reshape(-1)] = np.repeat(label, 3)
     if measures is None:
         centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
-        tri = vertices[faces] - centre
+        tri = np.take(vertices, faces, axis=0) - centre
         measures = (np.bincount(label, weights=face_volumes(tri), minlength=count),
                     np.bincount(label, weights=_areas(tri), minlength=count))
     volume, area = measures
@@ -481,7 +481,7 @@ def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
 
 def _areas(tri: np.ndarray) -> np.ndarray:
     """(m,) area of each triangle of ``tri`` (m, 3 corners, 3)."""
-    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
+    return 0.5 * np.linalg.norm(cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
                                 axis=1)
 
 
@@ -615,5 +615,5 @@ def _body_volume(body: RepairedBody) -> float:
 
 def _volume(vertices: np.ndarray, faces: np.ndarray) -> float:
     centre = vertices.mean(axis=0)
-    return float(face_volumes(vertices[faces] - centre).sum())
+    return float(face_volumes(np.take(vertices, faces, axis=0) - centre).sum())
 

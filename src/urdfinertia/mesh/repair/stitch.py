@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from urdfinertia.inertia.polyhedron import cross_rows
 from urdfinertia.mesh.repair.graph import EdgeTable, components, edge_table
 
 #: Stitch tolerance as a fraction of the bounding-box diagonal (seams of 1e-6 to 1e-4).
@@ -192,8 +193,8 @@ def _merge_boundary_vertices(vertices: np.ndarray, faces: np.ndarray, edges: np.
 
 
 def _star_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    tri = vertices[faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    tri = np.take(vertices, faces, axis=0)
+    area = 0.5 * np.linalg.norm(cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
     return np.bincount(faces.reshape(-1), weights=np.repeat(area, 3), minlength=len(vertices))
 
 

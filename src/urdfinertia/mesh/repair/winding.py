@@ -158,11 +158,12 @@ class RayCounter:
             return
         # coordinates along the ray (x) and across it (y, z): a rotation, so each vertex
         # keeps one position and the surface stays closed
+        # only the used vertices, in their order (the same product as rotating them in
+        # place), so a few faces of a large vertex array cost no copy of all of it
         used = np.zeros(len(v), dtype=bool)
         used[f.reshape(-1)] = True
-        rotated = np.zeros_like(v)
-        rotated[used] = v[used] @ _RAY_FRAME.T
-        self.tri = tri = rotated[f]
+        rank = np.cumsum(used) - 1
+        self.tri = tri = (v[used] @ _RAY_FRAME.T)[rank[f]]
         # elementwise over the corners: numpy's reduction along a length-3 axis is slow
         self.lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
         self.hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
