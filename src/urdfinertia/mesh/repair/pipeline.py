@@ -171,7 +171,12 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
                              stitched_table)
     except MeshError:
         return plain()
-    if not stitch.ambiguous:
+    # the stitch's arrays and tables are not needed past here: freed before the unions,
+    # the memory peak of a large mesh
+    ambiguous = stitch.ambiguous
+    del stitch, stitched_faces, stitched_table
+    if not ambiguous:
+        table = None  # plain() builds its own if it is needed
         try:
             return _finish(stitched, timer)
         except MeshError:
@@ -182,6 +187,7 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     # before the unions settle the comparison (:meth:`_Closed.stated_error_bounds`).
     try:
         unstitched = _close_up(vertices, faces, notes, deadline, welded, table=table)
+        table = None
     except MeshError:
         try:
             return _finish(stitched, timer)
