@@ -379,7 +379,9 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
     return np.concatenate(faces_out), np.concatenate(loops_out)
 
 
-def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
+def _best_triangulation(points: np.ndarray, rim: np.ndarray,
+                        plan: tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple]] | None
+                        = None) -> np.ndarray:
     """Triangulations of polygons minimising rim angles (interval dynamic programme).
 
     Parameters
@@ -388,6 +390,8 @@ def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
         Polygon corners in the order the surface runs along its boundary.
     rim : (L, s, 3) float
         Unit normal of the surface face along edge ``i -> i+1``.
+    plan : optional
+        ``_interval_plan(s)``, when the caller has it (batches of wide loops share one).
 
     Returns
     -------
@@ -396,10 +400,12 @@ def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
     """
     n_poly, s, _ = points.shape
     # every candidate triangle (i < k < j) is costed once, all in one vectorised call
-    tri_i, tri_k, tri_j, plan = _interval_plan(s)
+    whole = plan if plan is not None else _interval_plan(s)
+    tri_i, tri_k, tri_j, steps = whole
     step = max(1, TRIANGULATE_BATCH // len(tri_i))
-    if n_poly > step:  # bound the temporaries: the polygons are independent
-        return np.concatenate([_best_triangulation(points[a:a + step], rim[a:a + step])
+    if n_poly > step:  # bound the temporaries: the polygons are independent (one plan)
+        return np.concatenate([_best_triangulation(points[a:a + step], rim[a:a + step],
+                                                   whole)
                                for a in range(0, n_poly, step)])
     scale = np.maximum(np.sum(np.linalg.norm(np.diff(points, axis=1), axis=2), axis=1), 1e-300)
     tri_cost = _triangle_cost(points, rim, tri_i, tri_k, tri_j, scale, s)
@@ -409,7 +415,7 @@ def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
     cost[:, idx, idx + 1] = 0.0
     flat_cost = cost.reshape(n_poly, s * s)  # views: one flat index per lookup
     flat_choice = choice.reshape(n_poly, s * s)
-    for ik, kj, tri, ij, first_k in plan:  # by interval width: all i, splits, polygons
+    for ik, kj, tri, ij, first_k in steps:  # by interval width: all i, splits, polygons
         c = flat_cost[:, ik] + flat_cost[:, kj] + tri_cost[:, tri]
         best = np.argmin(c, axis=2)
         flat_cost[:, ij] = np.take_along_axis(c, best[..., None], axis=2)[..., 0]
