@@ -153,7 +153,8 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     timer = timer if timer is not None else StageTimes()
     deadline = Deadline(mesh_seconds() if seconds is not None and seconds < 0 else seconds)
     welded = "welded" if notes else "closed as given"
-    table = edge_table(faces)  # shared by the stitch and the unstitched repair
+    # one edge table for the stitch and the unstitched repair
+    table: EdgeTable | None = edge_table(faces)
     stitch = stitch_seams(vertices, faces, size, table)
     if stitch is None:
         return _finish(_close_up(vertices, faces, notes, deadline, welded, table=table), timer)
