@@ -153,18 +153,19 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     timer = timer if timer is not None else StageTimes()
     deadline = Deadline(mesh_seconds() if seconds is not None and seconds < 0 else seconds)
     welded = "welded" if notes else "closed as given"
-    # one edge table for the stitch and the unstitched repair
+    # one edge table for the stitch and, when nothing was stitched, the repair
     table: EdgeTable | None = edge_table(faces)
     stitch = stitch_seams(vertices, faces, size, table)
     if stitch is None:
         return _finish(_close_up(vertices, faces, notes, deadline, welded, table=table), timer)
+    table = None  # not kept through the stitched repair (memory): built again if needed
     stitched_faces = drop_degenerate(stitch.vertices, stitch.faces, (1e-12 * size) ** 2)
     stitched_faces, _, _ = cancel_duplicate_faces(stitched_faces)
     # nothing dropped: the same faces in the same order, so the stitch's table holds
     stitched_table = stitch.table if len(stitched_faces) == len(stitch.faces) else None
 
     def plain() -> RepairedMesh:
-        return _finish(_close_up(vertices, faces, notes, deadline, welded, table=table), timer)
+        return _finish(_close_up(vertices, faces, notes, deadline, welded), timer)
 
     try:
         stitched = _close_up(stitch.vertices, stitched_faces, notes + [stitch.note()],
@@ -177,7 +178,6 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     ambiguous = stitch.ambiguous
     del stitch, stitched_faces, stitched_table
     if not ambiguous:
-        table = None  # plain() builds its own if it is needed
         try:
             return _finish(stitched, timer)
         except MeshError:
@@ -187,8 +187,7 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     # unions (the costly part) are run for the repair kept only, where the figures
     # before the unions settle the comparison (:meth:`_Closed.stated_error_bounds`).
     try:
-        unstitched = _close_up(vertices, faces, notes, deadline, welded, table=table)
-        table = None
+        unstitched = _close_up(vertices, faces, notes, deadline, welded)
     except MeshError:
         try:
             return _finish(stitched, timer)
