@@ -486,7 +486,7 @@ def _triangle_cost(points: np.ndarray, rim: np.ndarray, i: np.ndarray, k: np.nda
 
     ``i, k, j`` are equal-shaped index arrays; the result has shape ``(L,) + i.shape``.
     """
-    pi, pk, pj = points[:, i], points[:, k], points[:, j]
+    pi, pk, pj = (np.take(points, x, axis=1) for x in (i, k, j))  # points[:, x]
     # np.cross bit for bit, on the rows of the candidates
     cross = cross_rows((pk - pj).reshape(-1, 3), (pi - pj).reshape(-1, 3)).reshape(pk.shape)
     norm = np.linalg.norm(cross, axis=-1)

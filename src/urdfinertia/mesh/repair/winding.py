@@ -182,7 +182,8 @@ class RayCounter:
         unsure = np.zeros(len(pts), dtype=bool)
         for first, last, pi, ti in self._pairs(pts, slack):
             p = pts[first:last]
-            rel = tri[ti] - p[pi, None, :]  # (k, 3 corners, 3)
+            # (k, 3 corners, 3): tri[ti] - p[pi, None], with np.take's faster gathers
+            rel = np.take(tri, ti, axis=0) - np.take(p, pi, axis=0)[:, None, :]
             y, z = rel[:, :, 1], rel[:, :, 2]
             nxt = [1, 2, 0]
             prv = [2, 0, 1]
@@ -241,7 +242,8 @@ class RayCounter:
             pi = np.repeat(np.arange(last - first), n)
             rank = np.arange(len(pi)) - np.repeat(np.cumsum(n) - n, n)
             ti = order[np.repeat(start[cell[first:last]], n) + rank]
-            keep = near(pts[first:last][pi], lo[ti], hi[ti])
+            keep = near(np.take(pts[first:last], pi, axis=0), np.take(lo, ti, axis=0),
+                        np.take(hi, ti, axis=0))
             yield first, last, pi[keep], ti[keep]
             first = last
 
