@@ -7,6 +7,7 @@ from urdfinertia.mesh.repair.graph import (
     _unique_float_rows,
     cancel_duplicate_faces,
     edge_table,
+    sort_order,
     split_vertices,
     unique_rows,
     weld_vertices,
@@ -97,6 +98,29 @@ def test_edge_table_order_groups_half_edges(rng):
     head = np.roll(faces, -1, axis=1).reshape(-1)
     np.testing.assert_array_equal(table.edges[table.edge_id],
                                   np.sort(np.stack([tail, head], axis=1), axis=1))
+
+
+@pytest.mark.parametrize("high", [50, 2**40, 2**62])  # packed, packed, too wide to pack
+@pytest.mark.parametrize("dtype", [np.int64, np.int32, np.uint64])
+def test_sort_order_is_the_stable_argsort(rng, high, dtype):
+    if np.iinfo(dtype).max < high:
+        pytest.skip("keys do not fit the type")
+    key = rng.integers(0, high, size=5000).astype(dtype)
+    key[100:200] = key[0]  # many ties: their order must be the positions'
+    np.testing.assert_array_equal(sort_order(key), np.argsort(key, kind="stable"))
+    assert len(sort_order(key[:0])) == 0
+
+
+def test_edge_table_is_that_of_the_generic_unique(rng):
+    faces = rng.integers(0, 30, size=(200, 3))
+    table = edge_table(faces)
+    tail = faces.reshape(-1)
+    head = np.roll(faces, -1, axis=1).reshape(-1)
+    edges, edge_id, _ = unique_rows(np.sort(np.stack([tail, head], axis=1), axis=1))
+    np.testing.assert_array_equal(table.edges, edges)
+    np.testing.assert_array_equal(table.edge_id, edge_id)
+    np.testing.assert_array_equal(table.order, np.argsort(edge_id, kind="stable"))
+    np.testing.assert_array_equal(table.forward, tail < head)
 
 
 def test_cancel_duplicate_faces_parity():

@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from urdfinertia.inertia.polyhedron import used_vertices
+from urdfinertia.inertia.polyhedron import cross_rows, used_vertices
 
 
 def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -84,16 +84,18 @@ def _row_keys(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """:func:`unique_rows` of float rows by hashing their bits; None on a hash collision.
 
-    Equal rows are found by one sort of a 64-bit hash (then checked row by row, so a
-    collision falls back to the lexicographic sort); only the distinct rows are sorted
-    lexicographically. For an STL triangle soup, which repeats each vertex about six
-    times, that is several times cheaper than sorting every row on every column. The
-    first occurrence of each row represents it (``-0.0`` and ``0.0`` are one value), as
-    in the stable lexicographic sort.
+    Equal rows are found by one sort of a hash (the top bits of a 64-bit one; then
+    checked row by row, so a collision falls back to the lexicographic sort); only the
+    distinct rows are sorted lexicographically. For an STL triangle soup, which repeats
+    each vertex about six times, that is several times cheaper than sorting every row on
+    every column. The first occurrence of each row represents it (``-0.0`` and ``0.0``
+    are one value), as in the stable lexicographic sort.
     """
     columns, key = _row_keys(rows)
-    order = np.argsort(key)
-    ordered = key[order]
+    # the hash's top bits, leaving room to pack each row's position beside them
+    # (:func:`sort_order`): a shorter hash only makes the check below fail more often
+    keep = 63 - max(1, (len(key) - 1).bit_length())
+    order, ordered = _sorted_keys((key >> np.uint64(64 - keep)).astype(np.int64))
     new = np.empty(len(key), dtype=bool)
     new[0] = True
     np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
@@ -102,7 +104,7 @@ def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     first = np.minimum.reduceat(order, starts)  # first occurrence of each distinct row
     for column in columns:
         if not np.array_equal(column[order], column[first][group]):
-            return None  # a hash collision (never seen): sort instead
+            return None  # a hash collision (rare): sort instead
     distinct = rows[first]
     lex = np.lexsort(distinct.T[::-1])
     rank = np.empty(len(lex), dtype=np.int64)
@@ -117,12 +119,14 @@ def _unique_keys(rows: np.ndarray, key: np.ndarray, order: np.ndarray | None = N
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Groups of equal integer keys, as :func:`unique_rows` returns them.
 
-    Any member of a group represents it (its rows are equal), so an unstable sort,
-    several times faster than the stable one ``np.unique(return_index=True)`` uses, gives
-    the same answer. ``order`` is ``np.argsort(key)`` when the caller has it already.
+    Any member of a group represents it (its rows are equal), so one sort of the keys
+    (:func:`sort_order`, several times faster than the argsort ``np.unique`` uses) gives
+    the same answer. ``order`` is ``sort_order(key)`` when the caller has it already.
     """
-    order = np.argsort(key) if order is None else order
-    ordered = key[order]
+    if order is None:
+        order, ordered = _sorted_keys(key)
+    else:
+        ordered = key[order]
     new = np.empty(len(key), dtype=bool)
     new[0] = True
     np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
@@ -131,7 +135,36 @@ def _unique_keys(rows: np.ndarray, key: np.ndarray, order: np.ndarray | None = N
     inverse[order] = group
     starts = np.flatnonzero(new)
     counts = np.diff(np.append(starts, len(key)))
-    return rows[order[starts]], inverse, counts
+    return np.take(rows, order[starts], axis=0), inverse, counts
+
+
+def sort_order(key: np.ndarray) -> np.ndarray:
+    """``np.argsort(key, kind="stable")`` of non-negative integer keys, fast.
+
+    Where the keys leave room, each is packed with its position into one 64-bit word and
+    the words are sorted by value (numpy's SIMD sort, several times faster than an
+    argsort); the positions read back in that order are the stable order. Otherwise the
+    stable argsort itself.
+    """
+    return _sorted_keys(key)[0]
+
+
+def _sorted_keys(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(sort_order(key), key[sort_order(key)])``, the second read back from the packed
+    words where they were packed."""
+    n = len(key)
+    if n == 0:
+        return np.zeros(0, dtype=np.int64), key.copy()
+    bits = max(1, (n - 1).bit_length())
+    if key.dtype.kind not in "iu" or int(key.min()) < 0 or int(key.max()) >= 1 << (63 - bits):
+        order = np.argsort(key, kind="stable")
+        return order, key[order]
+    packed = key.astype(np.int64) << bits
+    packed |= np.arange(n, dtype=np.int64)
+    packed.sort()
+    ordered = (packed >> bits).astype(key.dtype, copy=False)
+    packed &= (1 << bits) - 1
+    return packed, ordered
 
 
 def components(n: int, a: np.ndarray, b: np.ndarray) -> tuple[int, np.ndarray]:
@@ -187,8 +220,8 @@ def drop_degenerate(vertices: np.ndarray, faces: np.ndarray, area_tol: float,
     """Faces with three distinct vertices and an area above ``area_tol``."""
     distinct = ((faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2])
                 & (faces[:, 0] != faces[:, 2]))
-    tri = vertices[faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    tri = np.take(vertices, faces, axis=0)  # vertices[faces], a faster gather
+    area = 0.5 * np.linalg.norm(cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
     return faces[distinct & (area > area_tol)]
 
 
@@ -215,7 +248,7 @@ def cancel_duplicate_faces(faces: np.ndarray) -> tuple[np.ndarray, int, int]:
     candidate = np.flatnonzero(parity == want)
     # the first candidate of each group: the least position among its candidates
     cand_group = group[candidate]
-    order = np.argsort(cand_group)
+    order = sort_order(cand_group)  # only the least position of a group counts
     starts = np.flatnonzero(np.diff(cand_group[order], prepend=-1))
     out = faces[np.sort(candidate[np.minimum.reduceat(order, starts)])]
     cancelled = int(np.sum(counts[net == 0]) // 2)
@@ -235,8 +268,8 @@ class EdgeTable(NamedTuple):
     edges : (e, 2) int
         The undirected edges, lower index first, ascending.
     order : (3m,) int
-        The half-edges grouped by edge: ``edge_id[order]`` is ascending (the order
-        within a group is unspecified).
+        The half-edges grouped by edge: ``edge_id[order]`` is ascending (ascending
+        half-edges within a group; no caller depends on that order).
     """
 
     edge_id: np.ndarray
@@ -250,15 +283,22 @@ def edge_table(faces: np.ndarray) -> EdgeTable:
     tail = faces.reshape(-1)
     head = np.roll(faces, -1, axis=1).reshape(-1)
     lo, hi = np.minimum(tail, head), np.maximum(tail, head)
-    pairs = np.stack([lo, hi], axis=1)
-    if len(pairs) == 0 or lo.min() < 0 or int(hi.max()) >= 2**31:
-        edges, edge_id, _ = unique_rows(pairs)
+    if len(lo) == 0 or lo.min() < 0 or int(hi.max()) >= 2**31:
+        edges, edge_id, _ = unique_rows(np.stack([lo, hi], axis=1))
         order = np.argsort(edge_id, kind="stable")
-    else:  # unique_rows' packed key, without its generic checks
-        key = lo.astype(np.int64) * (int(hi.max()) + 1) + hi
-        order = np.argsort(key)
-        edges, edge_id, _ = _unique_keys(pairs, key, order)
-    return EdgeTable(edge_id.reshape(-1), tail < head, edges, order)
+        return EdgeTable(edge_id.reshape(-1), tail < head, edges, order)
+    # unique_rows' packed key, without its generic checks
+    base = int(hi.max()) + 1
+    key = lo.astype(np.int64) * base + hi
+    order, ordered = _sorted_keys(key)
+    new = np.empty(len(key), dtype=bool)
+    new[0] = True
+    np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
+    edge_id = np.empty(len(key), dtype=np.int64)
+    edge_id[order] = np.cumsum(new) - 1
+    first = order[new]
+    edges = np.stack([lo[first], hi[first]], axis=1)
+    return EdgeTable(edge_id, tail < head, edges, order)
 
 
 def consistent_orientation(faces: np.ndarray, table: EdgeTable | None = None,

@@ -36,8 +36,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from urdfinertia.inertia.polyhedron import face_volumes
-from urdfinertia.mesh.repair.graph import boundary_edges
+from urdfinertia.inertia.polyhedron import cross_rows, face_volumes
+from urdfinertia.mesh.repair.graph import EdgeTable, boundary_edges, sort_order
 from urdfinertia.mesh.repair.level_caps import level_caps, level_caps_points
 from urdfinertia.mesh.repair.loops import boundary_cycles, ordered_cycles
 from urdfinertia.mesh.repair.winding import RayCounter, winding_numbers
@@ -130,7 +130,8 @@ LEVEL_MIN_GAIN = 1e-3
 
 
 def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = True,
-                deadline: Deadline | None = None) -> tuple[np.ndarray, np.ndarray, HoleCaps]:
+                deadline: Deadline | None = None, table: EdgeTable | None = None,
+                ) -> tuple[np.ndarray, np.ndarray, HoleCaps]:
     """Cap every boundary loop of an oriented surface (see the module docstring).
 
     Parameters
@@ -142,6 +143,10 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
         False caps every loop with a fan only: cheaper, for a first look at the volume.
     deadline : Deadline, optional
         Checked between the steps of triangulations, votes and level caps.
+    table : EdgeTable, optional
+        Half-edges of ``faces`` grouped by edge, as :func:`~.graph.boundary_edges` reads
+        them (``edge_table(faces)``, or a table of the same edges whose half-edges run
+        as ``faces`` do), when the caller has it already.
 
     Raises
     ------
@@ -155,7 +160,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     faces : (m + caps, 3) int
     caps : HoleCaps
     """
-    edges = boundary_edges(faces)
+    edges = boundary_edges(faces, table)
     if len(edges) == 0:
         return vertices, faces, HoleCaps.none()
     n = len(vertices)
@@ -168,7 +173,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     perimeter = np.bincount(loop, weights=length, minlength=n_loops)
     centre = fan_v[n:]
     fan_tri = fan_v[fan_f]
-    cross = np.cross(fan_tri[:, 1] - fan_tri[:, 0], fan_tri[:, 2] - fan_tri[:, 0])
+    cross = cross_rows(fan_tri[:, 1] - fan_tri[:, 0], fan_tri[:, 2] - fan_tri[:, 0])
     loop_area = np.bincount(fan_loop, weights=0.5 * np.linalg.norm(cross, axis=1),
                             minlength=n_loops)
     vec = np.stack([np.bincount(fan_loop, weights=cross[:, k], minlength=n_loops)
@@ -374,7 +379,9 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
     return np.concatenate(faces_out), np.concatenate(loops_out)
 
 
-def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
+def _best_triangulation(points: np.ndarray, rim: np.ndarray,
+                        plan: tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple]] | None
+                        = None) -> np.ndarray:
     """Triangulations of polygons minimising rim angles (interval dynamic programme).
 
     Parameters
@@ -383,6 +390,8 @@ def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
         Polygon corners in the order the surface runs along its boundary.
     rim : (L, s, 3) float
         Unit normal of the surface face along edge ``i -> i+1``.
+    plan : optional
+        ``_interval_plan(s)``, when the caller has it (batches of wide loops share one).
 
     Returns
     -------
@@ -391,10 +400,12 @@ def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
     """
     n_poly, s, _ = points.shape
     # every candidate triangle (i < k < j) is costed once, all in one vectorised call
-    tri_i, tri_k, tri_j, plan = _interval_plan(s)
+    whole = plan if plan is not None else _interval_plan(s)
+    tri_i, tri_k, tri_j, steps = whole
     step = max(1, TRIANGULATE_BATCH // len(tri_i))
-    if n_poly > step:  # bound the temporaries: the polygons are independent
-        return np.concatenate([_best_triangulation(points[a:a + step], rim[a:a + step])
+    if n_poly > step:  # bound the temporaries: the polygons are independent (one plan)
+        return np.concatenate([_best_triangulation(points[a:a + step], rim[a:a + step],
+                                                   whole)
                                for a in range(0, n_poly, step)])
     scale = np.maximum(np.sum(np.linalg.norm(np.diff(points, axis=1), axis=2), axis=1), 1e-300)
     tri_cost = _triangle_cost(points, rim, tri_i, tri_k, tri_j, scale, s)
@@ -404,7 +415,7 @@ def _best_triangulation(points: np.ndarray, rim: np.ndarray) -> np.ndarray:
     cost[:, idx, idx + 1] = 0.0
     flat_cost = cost.reshape(n_poly, s * s)  # views: one flat index per lookup
     flat_choice = choice.reshape(n_poly, s * s)
-    for ik, kj, tri, ij, first_k in plan:  # by interval width: all i, splits, polygons
+    for ik, kj, tri, ij, first_k in steps:  # by interval width: all i, splits, polygons
         c = flat_cost[:, ik] + flat_cost[:, kj] + tri_cost[:, tri]
         best = np.argmin(c, axis=2)
         flat_cost[:, ij] = np.take_along_axis(c, best[..., None], axis=2)[..., 0]
@@ -475,8 +486,9 @@ def _triangle_cost(points: np.ndarray, rim: np.ndarray, i: np.ndarray, k: np.nda
 
     ``i, k, j`` are equal-shaped index arrays; the result has shape ``(L,) + i.shape``.
     """
-    pi, pk, pj = points[:, i], points[:, k], points[:, j]
-    cross = np.cross(pk - pj, pi - pj)
+    pi, pk, pj = (np.take(points, x, axis=1) for x in (i, k, j))  # points[:, x]
+    # np.cross bit for bit, on the rows of the candidates
+    cross = cross_rows((pk - pj).reshape(-1, 3), (pi - pj).reshape(-1, 3)).reshape(pk.shape)
     norm = np.linalg.norm(cross, axis=-1)
     area_scale = scale.reshape((-1,) + (1,) * i.ndim) ** 2
     degenerate = norm <= 1e-12 * area_scale
@@ -550,12 +562,15 @@ def _rim_normals(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
     head = np.roll(faces, -1, axis=1).reshape(-1)
     key_faces = tail.astype(np.int64) * (len(vertices) + 1) + head
     key_edges = edges[:, 0].astype(np.int64) * (len(vertices) + 1) + edges[:, 1]
-    order = np.argsort(key_faces)
+    order = sort_order(key_faces)
+    ordered = key_faces[order]
+    if np.any(ordered[1:] == ordered[:-1]):  # a half-edge twice: which one is found
+        order = np.argsort(key_faces)  # depends on the order within ties, kept as it was
     pos = np.searchsorted(key_faces[order], key_edges)
     at = order[np.clip(pos, 0, len(order) - 1)]
     face = at // 3
     tri = vertices[faces[face]]
-    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    cross = cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     unit = cross / np.maximum(np.linalg.norm(cross, axis=1), 1e-300)[:, None]
     if missing_ok:
         unit[key_faces[at] != key_edges] = 0.0

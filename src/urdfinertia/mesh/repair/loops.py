@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from urdfinertia.inertia.polyhedron import cross_rows
 from urdfinertia.mesh.repair.graph import components
 
 
@@ -103,11 +104,13 @@ def _rank_within(group_sorted: np.ndarray, flag: np.ndarray) -> np.ndarray:
 
 
 def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    tri = vertices[faces]
-    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    normal = np.zeros_like(vertices)
-    for k in range(3):
-        np.add.at(normal, faces[:, k], cross)
+    tri = np.take(vertices, faces, axis=0)  # vertices[faces], a faster gather
+    cross = cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    # np.add.at(normal, faces[:, k], cross) for k = 0, 1, 2, as three bincounts: the
+    # same additions in the same order per vertex (corner by corner, face by face)
+    corner = faces.T.reshape(-1)
+    normal = np.stack([np.bincount(corner, weights=np.tile(cross[:, c], 3),
+                                   minlength=len(vertices)) for c in range(3)], axis=1)
     return normal / np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
 
 

@@ -22,12 +22,13 @@ Shells that enclose no volume (flat sheets, stray triangles) are dropped with a 
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
 from urdfinertia.errors import MeshError
-from urdfinertia.inertia.polyhedron import face_volumes, used_vertices
+from urdfinertia.inertia.polyhedron import cross_rows, face_volumes, used_vertices
 from urdfinertia.mesh.limits import OVER_BUDGET_NOTE, mesh_seconds
 from urdfinertia.mesh.read.load import TriangleMesh
 from urdfinertia.mesh.repair.graph import (
@@ -38,6 +39,7 @@ from urdfinertia.mesh.repair.graph import (
     edge_table,
     face_components,
     is_closed_oriented,
+    sort_order,
     split_vertices,
     weld_vertices,
 )
@@ -151,21 +153,31 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     timer = timer if timer is not None else StageTimes()
     deadline = Deadline(mesh_seconds() if seconds is not None and seconds < 0 else seconds)
     welded = "welded" if notes else "closed as given"
-    stitch = stitch_seams(vertices, faces, size)
+    # one edge table for the stitch and, when nothing was stitched, the repair
+    table: EdgeTable | None = edge_table(faces)
+    stitch = stitch_seams(vertices, faces, size, table)
     if stitch is None:
-        return _finish(_close_up(vertices, faces, notes, deadline, welded), timer)
+        return _finish(_close_up(vertices, faces, notes, deadline, welded, table=table), timer)
+    table = None  # not kept through the stitched repair (memory): built again if needed
     stitched_faces = drop_degenerate(stitch.vertices, stitch.faces, (1e-12 * size) ** 2)
     stitched_faces, _, _ = cancel_duplicate_faces(stitched_faces)
+    # nothing dropped: the same faces in the same order, so the stitch's table holds
+    stitched_table = stitch.table if len(stitched_faces) == len(stitch.faces) else None
 
     def plain() -> RepairedMesh:
         return _finish(_close_up(vertices, faces, notes, deadline, welded), timer)
 
     try:
         stitched = _close_up(stitch.vertices, stitched_faces, notes + [stitch.note()],
-                             deadline, stitch.provenance(), stitch.uncertainty)
+                             deadline, stitch.provenance(), stitch.uncertainty,
+                             stitched_table)
     except MeshError:
         return plain()
-    if not stitch.ambiguous:
+    # the stitch's arrays and tables are not needed past here: freed before the unions,
+    # the memory peak of a large mesh
+    ambiguous = stitch.ambiguous
+    del stitch, stitched_faces, stitched_table
+    if not ambiguous:
         try:
             return _finish(stitched, timer)
         except MeshError:
@@ -242,7 +254,7 @@ class _Closed:
         """
         u = self.stitch_uncertainty
         dep = np.array([b.dependence for b in self.bodies])
-        kept = np.array([_volume(b.vertices, b.faces) != 0 for b in self.bodies])
+        kept = np.array([_body_volume(b) != 0 for b in self.bodies])
         touch = _touching(self.bodies)
         if not touch.any():
             exact = sum(b.dependence + u for b, k in zip(self.bodies, kept, strict=True) if k)
@@ -270,7 +282,7 @@ def _touching(bodies: list[RepairedBody]) -> np.ndarray:
 
 def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str],
               deadline: Deadline, origin: str, stitch_uncertainty: float = 0.0,
-              ) -> _Closed:
+              table: EdgeTable | None = None) -> _Closed:
     """Orient, cap, turn outward and group welded faces (stages 2-4 and 6); the union
     (stage 5) is :func:`_finish`'s.
 
@@ -278,14 +290,16 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str],
 
     ``origin`` says how the surface was obtained before capping ("closed as given",
     "welded", "stitched"); ``stitch_uncertainty`` (m^3) is what stitching may have
-    changed, added to every body's stated error.
+    changed, added to every body's stated error. ``table`` is ``edge_table(faces)`` when
+    the caller has it already.
     """
     notes = list(notes)
-    table = edge_table(faces)
+    table = table if table is not None else edge_table(faces)
     # closed and oriented already (most CAD exports): no flips, no caps, and the edge
     # components are both the orientation patches and the shells
     known = face_components(faces, table) if is_closed_oriented(table) else None
-    oriented, flipped, non_orientable, measures = _orient(vertices, faces, table, known)
+    oriented, reversed_faces, non_orientable, measures = _orient(vertices, faces, table, known)
+    flipped = int(np.count_nonzero(reversed_faces))
     if flipped:
         notes.append(f"reoriented {flipped} of {len(faces)} faces outward")
     if non_orientable:
@@ -294,10 +308,15 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str],
     if known is not None:  # nothing to cap; turning whole shells keeps the components
         shells, flat = _split(vertices, oriented, HoleCaps.none(), known, measures)
     else:
+        # the oriented faces' edges are the input's, each reversed face's run backwards:
+        # the half-edges of the table with their directions turned serve
+        oriented_table = table._replace(forward=table.forward ^ np.repeat(reversed_faces, 3))
         try:
-            closed_v, closed_f, caps = close_holes(vertices, oriented, deadline=deadline)
+            closed_v, closed_f, caps = close_holes(vertices, oriented, deadline=deadline,
+                                                   table=oriented_table)
         except OverBudget:
-            closed_v, closed_f, caps = close_holes(vertices, oriented, triangulate=False)
+            closed_v, closed_f, caps = close_holes(vertices, oriented, triangulate=False,
+                                                   table=oriented_table)
             caps = caps.widened()
             notes.append(f"{OVER_BUDGET_NOTE} ({deadline.seconds:g} s): holes capped with "
                          "fans only, stated error widened (--mesh-seconds raises it)")
@@ -331,7 +350,7 @@ def _finish(closed: _Closed, timer: StageTimes) -> RepairedMesh:
 def drop_empty(bodies: list[RepairedBody], notes: list[str]) -> list[RepairedBody]:
     """``bodies`` without those enclosing no volume (a union can leave one: pybullet's
     samurai monastery), noted; :class:`MeshError` when none is left."""
-    kept = [b for b in bodies if _volume(b.vertices, b.faces) != 0]
+    kept = [b for b in bodies if _body_volume(b) != 0]
     if len(kept) < len(bodies):
         notes.append(f"ignored {len(bodies) - len(kept)} bodies enclosing no volume after "
                      "the union")
@@ -348,7 +367,7 @@ def _with_origin(body: RepairedBody, origin: str, stitch_uncertainty: float) -> 
     if origin.startswith("stitched"):
         method = f"stitched seams; {method}"
     if stitch_uncertainty > 0:
-        error = (error or 0.0) + stitch_uncertainty / abs(_volume(body.vertices, body.faces))
+        error = (error or 0.0) + stitch_uncertainty / abs(_body_volume(body))
         if not capped:
             origin = f"{origin}, volume within ~{100 * error:.2g}%"
     provenance = f"{origin}; {capped}" if capped else origin
@@ -373,7 +392,7 @@ def _checked(mesh: TriangleMesh) -> tuple[np.ndarray, np.ndarray]:
 
 def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
             closed: tuple[int, np.ndarray] | None,
-            ) -> tuple[np.ndarray, int, int, _Measures | None]:
+            ) -> tuple[np.ndarray, np.ndarray, int, _Measures | None]:
     """Faces oriented consistently per patch and outward per closed patch.
 
     Each orientation patch is closed on its own (private vertices, so loops never cross
@@ -387,7 +406,7 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
     flips, the patches are those components and each is closed already, so the private
     copies are skipped (they would hold the same coordinates, hence the same sums).
 
-    Returns the oriented faces, how many input faces were reversed, how many lie on
+    Returns the oriented faces, which input faces were reversed, how many lie on
     non-orientable patches, and, when ``closed`` is given and no patch was turned, the
     patches' volumes and areas (which :func:`_split` would compute again).
     """
@@ -403,8 +422,8 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
         own_v, own_f, face_patch = _patch_copies(vertices, propagated, patch)
     n_patch = int(patch.max() + 1)
     centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
-    tri = vertices[faces] - centre
-    own_tri = tri if closed is not None else own_v[own_f] - centre
+    tri = np.take(vertices, faces, axis=0) - centre  # vertices[faces], a faster gather
+    own_tri = tri if closed is not None else np.take(own_v, own_f, axis=0) - centre
     volume = np.bincount(face_patch, weights=face_volumes(own_tri), minlength=n_patch)
     area = np.bincount(patch, weights=_areas(tri), minlength=n_patch)
     flat = ~(np.abs(volume) > FLAT_RTOL * area ** 1.5)
@@ -419,9 +438,8 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
         turn[flat] = majority_flipped[flat] ^ inverted
     reverse = turn[patch]
     oriented = np.where(reverse[:, None], propagated[:, ::-1], propagated)
-    flipped = int(np.count_nonzero(flip ^ reverse))
     measures = (volume, area) if closed is not None and not turn.any() else None
-    return oriented, flipped, int(np.count_nonzero(non_orientable)), measures
+    return oriented, flip ^ reverse, int(np.count_nonzero(non_orientable)), measures
 
 
 def _patch_copies(vertices: np.ndarray, faces: np.ndarray, patch: np.ndarray,
@@ -448,12 +466,12 @@ def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
     vertex_label[faces.reshape(-1)] = np.repeat(label, 3)
     if measures is None:
         centre = vertices[used_vertices(len(vertices), faces)].mean(axis=0)
-        tri = vertices[faces] - centre
+        tri = np.take(vertices, faces, axis=0) - centre
         measures = (np.bincount(label, weights=face_volumes(tri), minlength=count),
                     np.bincount(label, weights=_areas(tri), minlength=count))
     volume, area = measures
     solid = np.abs(volume) > FLAT_RTOL * area ** 1.5
-    order = np.argsort(label, kind="stable")
+    order = sort_order(label)
     bounds = np.searchsorted(label[order], np.arange(count + 1))
     # each shell's sorted vertices and its faces re-indexed into them, for all shells at
     # once, shell by shell, vertices ascending within
@@ -469,7 +487,7 @@ def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
 
 def _areas(tri: np.ndarray) -> np.ndarray:
     """(m,) area of each triangle of ``tri`` (m, 3 corners, 3)."""
-    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
+    return 0.5 * np.linalg.norm(cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
                                 axis=1)
 
 
@@ -559,7 +577,7 @@ def _unite(bodies: list[RepairedBody], timer: StageTimes,
     if united is None:
         return bodies, (f"{len(involved)} bodies may overlap but are not manifold: "
                         "shared volume may be counted twice")
-    before = sum(_volume(b.vertices, b.faces) for b in chosen)
+    before = sum(_body_volume(b) for b in chosen)
     after = _volume(*united)
     if abs(before - after) <= OVERLAP_RTOL * before:
         return bodies, ""
@@ -570,7 +588,7 @@ def _unite(bodies: list[RepairedBody], timer: StageTimes,
     base = "exact" if exact else "holes closed with caps (estimate)"
     # the stated volumes add up: each body's relative error weighted by its volume, over
     # the united volume (a small, badly capped body must not set the whole body's error)
-    error = sum((b.error_estimate or 0.0) * abs(_volume(b.vertices, b.faces))
+    error = sum((b.error_estimate or 0.0) * abs(_body_volume(b))
                 for b in chosen) / after
     notes = tuple(dict.fromkeys(n for b in chosen for n in b.notes))
     capped = "; ".join(dict.fromkeys(b.provenance for b in chosen if b.provenance))
@@ -587,7 +605,21 @@ def _unite(bodies: list[RepairedBody], timer: StageTimes,
     return rest + new, note
 
 
+#: :func:`_volume` of each body asked about, while the body lives: the stated bounds, the
+#: union and the provenance ask for the same bodies' volumes several times.
+_BODY_VOLUMES: weakref.WeakKeyDictionary[RepairedBody, float] = weakref.WeakKeyDictionary()
+
+
+def _body_volume(body: RepairedBody) -> float:
+    """``_volume(body.vertices, body.faces)``, computed once per body (its arrays are not
+    changed once it is made)."""
+    volume = _BODY_VOLUMES.get(body)
+    if volume is None:
+        volume = _BODY_VOLUMES[body] = _volume(body.vertices, body.faces)
+    return volume
+
+
 def _volume(vertices: np.ndarray, faces: np.ndarray) -> float:
     centre = vertices.mean(axis=0)
-    return float(face_volumes(vertices[faces] - centre).sum())
+    return float(face_volumes(np.take(vertices, faces, axis=0) - centre).sum())
 

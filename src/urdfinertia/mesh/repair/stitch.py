@@ -22,7 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from urdfinertia.mesh.repair.graph import components, edge_table
+from urdfinertia.inertia.polyhedron import cross_rows
+from urdfinertia.mesh.repair.graph import EdgeTable, components, edge_table
 
 #: Stitch tolerance as a fraction of the bounding-box diagonal (seams of 1e-6 to 1e-4).
 STITCH_RTOL = 1e-3
@@ -53,6 +54,8 @@ class Stitch:
     ambiguous : bool
         Boundary edges remain, or the stitch made edges shared by more than two faces:
         the caller should compare with the unstitched repair.
+    table : EdgeTable
+        ``edge_table(faces)``, for the caller to reuse.
     """
 
     vertices: np.ndarray
@@ -64,6 +67,7 @@ class Stitch:
     boundary_after: int
     uncertainty: float
     ambiguous: bool
+    table: EdgeTable
 
     def provenance(self) -> str:
         return (f"stitched {self.merged + self.inserted} boundary vertices "
@@ -87,41 +91,49 @@ def stitch_tolerance(vertices: np.ndarray, faces: np.ndarray, size: float) -> fl
     return min(STITCH_RTOL * size, STITCH_EDGE_FRACTION * median_edge)
 
 
-def stitch_seams(vertices: np.ndarray, faces: np.ndarray, size: float) -> Stitch | None:
+def stitch_seams(vertices: np.ndarray, faces: np.ndarray, size: float,
+                 table: EdgeTable | None = None) -> Stitch | None:
     """Merge and insert boundary vertices within :func:`stitch_tolerance`; None if none.
 
     ``faces`` need not be oriented: a boundary edge is an edge used by one face.
+    ``table`` is ``edge_table(faces)`` when the caller has it already.
     """
-    edges = _boundary(faces)
+    table = table if table is not None else edge_table(faces)
+    edges = _boundary(faces, table)
     if len(edges) == 0:
         return None
     tol = stitch_tolerance(vertices, faces, size)
     before = len(edges)
-    vertices, faces, merged, gap, moved = _merge_boundary_vertices(vertices, faces, edges, tol)
+    vertices, stitched, merged, gap, moved = _merge_boundary_vertices(vertices, faces, edges,
+                                                                      tol, table)
+    if stitched is not faces:  # merged: the table is of the old faces
+        faces, table = stitched, edge_table(stitched)
     inserted, swept = 0, 0.0
     for _ in range(SPLIT_PASSES):  # each pass splits at most one edge per face
-        edges = _boundary(faces)
-        faces, count, dist, vol = _split_t_junctions(vertices, faces, edges, tol)
+        edges = _boundary(faces, table)
+        split, count, dist, vol = _split_t_junctions(vertices, faces, edges, tol)
         if count == 0:
             break
+        faces, table = split, edge_table(split)
         inserted += count
         gap = max(gap, dist)
         swept += vol
     if merged == 0 and inserted == 0:
         return None
-    table = edge_table(faces)
     uses = np.bincount(table.edge_id, minlength=len(table.edges))
     after = int(np.count_nonzero(uses == 1))
     ambiguous = after > 0 or bool(np.any(uses > 2))
     return Stitch(vertices, faces, merged, inserted, gap, before, after, moved + swept,
-                  ambiguous)
+                  ambiguous, table)
 
 
-def _boundary(faces: np.ndarray) -> np.ndarray:
-    """Undirected edges used by exactly one face, and that face: (b, 3) ``(lo, hi, face)``."""
+def _boundary(faces: np.ndarray, table: EdgeTable) -> np.ndarray:
+    """Undirected edges used by exactly one face, and that face: (b, 3) ``(lo, hi, face)``.
+
+    ``table`` is ``edge_table(faces)``.
+    """
     if len(faces) == 0:
         return np.zeros((0, 3), dtype=np.int64)
-    table = edge_table(faces)
     uses = np.bincount(table.edge_id, minlength=len(table.edges))
     half = np.flatnonzero(uses[table.edge_id] == 1)  # the half-edges of one-face edges
     lo_hi = table.edges[table.edge_id[half]]
@@ -129,11 +141,13 @@ def _boundary(faces: np.ndarray) -> np.ndarray:
 
 
 def _merge_boundary_vertices(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
-                             tol: float) -> tuple[np.ndarray, np.ndarray, int, float, float]:
+                             tol: float, table: EdgeTable,
+                             ) -> tuple[np.ndarray, np.ndarray, int, float, float]:
     """Cluster boundary vertices within ``tol`` (not joined by an edge) at their mean.
 
-    Returns vertices, faces (collapsed ones dropped), how many vertices merged, the
-    largest distance moved and the bound on the volume swept.
+    ``table`` is ``edge_table(faces)``. Returns vertices, faces (collapsed ones dropped;
+    ``faces`` itself when nothing merged), how many vertices merged, the largest distance
+    moved and the bound on the volume swept.
     """
     from scipy.spatial import cKDTree
 
@@ -141,7 +155,6 @@ def _merge_boundary_vertices(vertices: np.ndarray, faces: np.ndarray, edges: np.
     pairs = cKDTree(vertices[ids]).query_pairs(tol, output_type="ndarray")
     if len(pairs):  # two ends of one short edge are a triangle, not a seam
         a, b = ids[pairs[:, 0]], ids[pairs[:, 1]]
-        table = edge_table(faces)
         n = len(vertices)
         key = table.edges[:, 0] * n + table.edges[:, 1]
         want = np.minimum(a, b) * n + np.maximum(a, b)
@@ -180,8 +193,8 @@ def _merge_boundary_vertices(vertices: np.ndarray, faces: np.ndarray, edges: np.
 
 
 def _star_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    tri = vertices[faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    tri = np.take(vertices, faces, axis=0)
+    area = 0.5 * np.linalg.norm(cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
     return np.bincount(faces.reshape(-1), weights=np.repeat(area, 3), minlength=len(vertices))
 
 

@@ -18,6 +18,8 @@ from collections.abc import Iterator
 import numpy as np
 from numpy.typing import ArrayLike
 
+from urdfinertia.mesh.repair.graph import sort_order
+
 #: Query points x triangles evaluated per chunk (bounds the temporary arrays to ~100 MB).
 CHUNK = 1_000_000
 
@@ -156,11 +158,12 @@ class RayCounter:
             return
         # coordinates along the ray (x) and across it (y, z): a rotation, so each vertex
         # keeps one position and the surface stays closed
+        # only the used vertices, in their order (the same product as rotating them in
+        # place), so a few faces of a large vertex array cost no copy of all of it
         used = np.zeros(len(v), dtype=bool)
         used[f.reshape(-1)] = True
-        rotated = np.zeros_like(v)
-        rotated[used] = v[used] @ _RAY_FRAME.T
-        self.tri = tri = rotated[f]
+        rank = np.cumsum(used) - 1
+        self.tri = tri = (v[used] @ _RAY_FRAME.T)[rank[f]]
         # elementwise over the corners: numpy's reduction along a length-3 axis is slow
         self.lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
         self.hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
@@ -179,7 +182,8 @@ class RayCounter:
         unsure = np.zeros(len(pts), dtype=bool)
         for first, last, pi, ti in self._pairs(pts, slack):
             p = pts[first:last]
-            rel = tri[ti] - p[pi, None, :]  # (k, 3 corners, 3)
+            # (k, 3 corners, 3): tri[ti] - p[pi, None], with np.take's faster gathers
+            rel = np.take(tri, ti, axis=0) - np.take(p, pi, axis=0)[:, None, :]
             y, z = rel[:, :, 1], rel[:, :, 2]
             nxt = [1, 2, 0]
             prv = [2, 0, 1]
@@ -238,7 +242,8 @@ class RayCounter:
             pi = np.repeat(np.arange(last - first), n)
             rank = np.arange(len(pi)) - np.repeat(np.cumsum(n) - n, n)
             ti = order[np.repeat(start[cell[first:last]], n) + rank]
-            keep = near(pts[first:last][pi], lo[ti], hi[ti])
+            keep = near(np.take(pts[first:last], pi, axis=0), np.take(lo, ti, axis=0),
+                        np.take(hi, ti, axis=0))
             yield first, last, pi[keep], ti[keep]
             first = last
 
@@ -280,7 +285,7 @@ class RayCounter:
         cy = a[face, 0] + k % sy
         cz = a[face, 1] + k // sy
         key = cy * side + cz
-        order = face[np.argsort(key, kind="stable")]
+        order = face[sort_order(key)]
         count = np.bincount(key, minlength=side * side)
         start = np.cumsum(count) - count
         return origin, np.asarray(h), np.asarray(side), start, count, order
