@@ -28,8 +28,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from urdfinertia.link.policy import every_link
+
     options = options_from_args(args)
-    meshes = single_file_library(args, options)  # the meshes in parallel with -j
+    # the meshes in parallel with -j: every link's, since the report's compare derives
+    # every link with geometry (fix's own are among them)
+    meshes = single_file_library(args, every_link(options))
     page = build_report(args.urdf, options, view=args.view, face_budget=args.view_faces,
                         meshes=meshes)
     finish_single(args, meshes)

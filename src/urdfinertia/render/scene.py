@@ -200,28 +200,75 @@ def used_only(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.n
     return np.asarray(vertices)[faces.reshape(-1)[first]], inverse.reshape(faces.shape)
 
 
-def primitive_triangles(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
-    """Coarse triangles of a URDF primitive in its geometry frame."""
-    import trimesh
+#: Segments around the axis of a drawn round primitive, and rings from pole to pole of a
+#: sphere (a capsule's ends share them): coarse, the shape only has to be recognisable.
+ROUND_SECTIONS = 24
+SPHERE_RINGS = 12
 
+
+def primitive_triangles(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
+    """Coarse triangles of a primitive in its geometry frame, outward-facing: (n, 3) float
+    vertices (m) and (k, 3) int faces. Made here with numpy (no mesh library to import:
+    a warm report draws its primitives without one)."""
     if isinstance(shape, Box):
-        m = trimesh.creation.box(extents=shape.size)
-    elif isinstance(shape, Cylinder):
-        m = trimesh.creation.cylinder(radius=shape.radius, height=shape.length, sections=24)
-    elif isinstance(shape, Sphere):
-        m = trimesh.creation.icosphere(subdivisions=2, radius=shape.radius)
-    elif isinstance(shape, Capsule):
-        m = trimesh.creation.capsule(height=shape.length, radius=shape.radius, count=[16, 8])
-    elif isinstance(shape, Cone):
-        # trimesh's cone stands on z = 0; the model's is centred (apex at +length/2)
-        m = trimesh.creation.cone(radius=shape.radius, height=shape.length, sections=24)
-        m.apply_translation((0.0, 0.0, -shape.length / 2))
-    elif isinstance(shape, Ellipsoid):
-        m = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
-        m.apply_scale(shape.radii)
-    else:
-        raise TypeError(f"not a primitive: {shape!r}")
-    return np.asarray(m.vertices), np.asarray(m.faces)
+        signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)],
+                         dtype=np.float64)
+        return signs * (0.5 * np.asarray(shape.size, dtype=np.float64)), _BOX_FACES.copy()
+    if isinstance(shape, Cylinder):
+        r, h = shape.radius, shape.length / 2
+        return revolved(np.array([[0.0, -h], [r, -h], [r, h], [0.0, h]]))
+    if isinstance(shape, Cone):  # centred, apex at +length/2 (the model's convention)
+        r, h = shape.radius, shape.length / 2
+        return revolved(np.array([[0.0, -h], [r, -h], [0.0, h]]))
+    if isinstance(shape, Sphere):
+        return revolved(_half_circle(shape.radius, SPHERE_RINGS))
+    if isinstance(shape, Ellipsoid):
+        v, f = revolved(_half_circle(1.0, SPHERE_RINGS))
+        return v * np.asarray(shape.radii, dtype=np.float64), f
+    if isinstance(shape, Capsule):
+        arc = _half_circle(shape.radius, SPHERE_RINGS)
+        half = SPHERE_RINGS // 2  # the equator is the last point of the lower end
+        lower = arc[:half + 1] - [0.0, shape.length / 2]
+        upper = arc[half:] + [0.0, shape.length / 2]
+        return revolved(np.vstack([lower, upper]))
+    raise TypeError(f"not a primitive: {shape!r}")
+
+
+def _half_circle(radius: float, rings: int) -> np.ndarray:
+    """(rings + 1, 2) (r, z) from the south pole to the north pole."""
+    theta = np.linspace(0.0, np.pi, rings + 1)
+    return radius * np.column_stack([np.sin(theta), -np.cos(theta)])
+
+
+def revolved(profile: np.ndarray, sections: int = ROUND_SECTIONS,
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """The closed surface swept by turning ``profile`` about z.
+
+    profile : (m, 2) float, (r, z) points from the bottom of the axis to its top; its first
+    and last points have r = 0 (poles, one vertex each), the others r > 0 (a ring of
+    ``sections`` vertices each). Faces are wound outward (counter-clockwise seen from
+    outside).
+    """
+    profile = np.asarray(profile, dtype=np.float64)
+    if profile.ndim != 2 or profile.shape[1] != 2 or len(profile) < 3:
+        raise ValueError(f"profile must have shape (m >= 3, 2), got {profile.shape}")
+    phi = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
+    ring = np.column_stack([np.cos(phi), np.sin(phi)])
+    inner = profile[1:-1]
+    rings = np.concatenate([
+        np.column_stack([r * ring, np.full(sections, z)]) for r, z in inner])
+    bottom, top = len(rings), len(rings) + 1
+    vertices = np.vstack([rings, [[0.0, 0.0, profile[0, 1]], [0.0, 0.0, profile[-1, 1]]]])
+    k = np.arange(sections)
+    nxt = (k + 1) % sections
+    faces = [np.column_stack([np.full(sections, bottom), nxt, k])]  # bottom fan
+    for i in range(len(inner) - 1):
+        a, b = i * sections, (i + 1) * sections
+        faces.append(np.column_stack([a + k, a + nxt, b + nxt]))
+        faces.append(np.column_stack([a + k, b + nxt, b + k]))
+    last = (len(inner) - 1) * sections
+    faces.append(np.column_stack([np.full(sections, top), last + k, last + nxt]))  # top fan
+    return vertices, np.concatenate(faces).astype(np.int64)
 
 
 def view_refs(link: Link, mode: str):
