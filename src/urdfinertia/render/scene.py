@@ -26,6 +26,7 @@ from urdfinertia.descriptions.model import (
     Cone,
     Cylinder,
     Ellipsoid,
+    GeometryRef,
     Inertial,
     Link,
     Mesh,
@@ -278,22 +279,59 @@ def view_refs(link: Link, mode: str):
     return first or second
 
 
+def display_plan(robot: Robot, view: str = "visual",
+                 face_budget: int = DEFAULT_VIEW_FACES,
+                 ) -> tuple[list[tuple[Link, GeometryRef]], int]:
+    """The elements drawn (link, element) and the face cap of each mesh: the budget is
+    shared evenly by the mesh elements (primitives are small anyway)."""
+    if view not in VIEW_MODES:
+        raise ValueError(f"view must be one of {VIEW_MODES}")
+    items = [(link, ref) for link in robot.links for ref in view_refs(link, view)]
+    n_mesh = sum(isinstance(ref.shape, Mesh) for _, ref in items)
+    return items, max(MIN_FACES_PER_MESH, face_budget // max(n_mesh, 1))
+
+
+def display_paths(robot: Robot, meshes: MeshLibrary, view: str = "visual",
+                  face_budget: int = DEFAULT_VIEW_FACES) -> tuple[list[Path], int]:
+    """The distinct mesh files :func:`build_scene` draws (those that resolve) and their
+    face cap: what can be prepared ahead, in other processes (:func:`display_task`)."""
+    items, cap = display_plan(robot, view, face_budget)
+    urdf_dir = (robot.path or Path("robot.urdf")).parent
+    paths: dict[Path, None] = {}
+    for _, ref in items:
+        if isinstance(ref.shape, Mesh):
+            try:
+                paths[meshes.resolve(ref.shape.filename, urdf_dir).resolve()] = None
+            except UrdfInertiaError:
+                continue  # build_scene says why
+    return list(paths), cap
+
+
+def display_task(path: str, max_faces: int, cap: int) -> tuple[dict, np.ndarray] | None:
+    """The display copy of one mesh file (:func:`~urdfinertia.cache.library.display_entry`
+    of :func:`decimate`), made in a worker process; None when the file cannot be read
+    (:func:`build_scene` then reads it again and says why, in context)."""
+    from urdfinertia.cache.library import display_entry
+    from urdfinertia.mesh.read.load import load_mesh
+
+    try:
+        return display_entry(load_mesh(Path(path), max_faces), cap, decimate)
+    except UrdfInertiaError:
+        return None
+
+
 def build_scene(robot: Robot, meshes: MeshLibrary, *, view: str = "visual",
                 face_budget: int = DEFAULT_VIEW_FACES) -> Scene:
     """Poses and decimated display meshes of every link at the zero configuration.
 
-    The face budget is shared evenly by the mesh elements (primitives are small anyway).
+    The face budget is shared evenly by the mesh elements (:func:`display_plan`).
     A display mesh that cannot be read is left out with a note: the report still shows
     the inertials.
     """
-    if view not in VIEW_MODES:
-        raise ValueError(f"view must be one of {VIEW_MODES}")
+    items, cap = display_plan(robot, view, face_budget)
     poses, kin_notes = zero_configuration_poses(robot)
     notes = list(kin_notes)
     urdf_dir = (robot.path or Path("robot.urdf")).parent
-    items = [(link, ref) for link in robot.links for ref in view_refs(link, view)]
-    n_mesh = sum(isinstance(ref.shape, Mesh) for _, ref in items)
-    cap = max(MIN_FACES_PER_MESH, face_budget // max(n_mesh, 1))
     memo: dict[Path, tuple[np.ndarray, np.ndarray, int, str]] = {}
     out: list[ViewMesh] = []
     for link, ref in items:
