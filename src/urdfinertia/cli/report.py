@@ -16,6 +16,7 @@ from urdfinertia.render.scene import (
     VIEW_MODES,
     display_paths,
     display_task,
+    load_display_modules,
 )
 
 if TYPE_CHECKING:
@@ -62,6 +63,7 @@ def prepare_display(args: argparse.Namespace, meshes: MeshLibrary) -> None:
     size = sum(p.stat().st_size for p in missing if p.is_file())
     if len(missing) < 2 or (size < DISPLAY_WORKERS_FROM_BYTES and not settings.dask):
         return
+    load_display_modules()  # once here, not in every forked worker
     # largest first: the long tasks start early and the end stays busy
     missing.sort(key=lambda p: -p.stat().st_size if p.is_file() else 0)
     with open_executor(min(settings.jobs, len(missing)), settings.dask) as pool:

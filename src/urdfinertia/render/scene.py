@@ -307,6 +307,16 @@ def display_paths(robot: Robot, meshes: MeshLibrary, view: str = "visual",
     return list(paths), cap
 
 
+def load_display_modules() -> None:
+    """Import what reads and decimates display meshes (trimesh, fast-simplification), so
+    that worker processes forked afterwards inherit it instead of each importing it."""
+    try:
+        import fast_simplification  # noqa: F401
+        import trimesh  # noqa: F401
+    except ImportError:  # decimate falls back; a reader says what is missing
+        pass
+
+
 def display_task(path: str, max_faces: int, cap: int) -> tuple[dict, np.ndarray] | None:
     """The display copy of one mesh file (:func:`~urdfinertia.cache.library.display_entry`
     of :func:`decimate`), made in a worker process; None when the file cannot be read
