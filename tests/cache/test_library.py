@@ -260,3 +260,38 @@ def test_hull_volume_is_the_scaled_hulls_and_computed_once(box_stl, monkeypatch)
         assert lib.hull_volume(box_stl, scale) == pytest.approx(
             box.convex_hull.volume * abs(np.prod(scale)), rel=1e-12)
     assert len(calls) == 2  # one per distinct scale
+
+
+def test_a_display_copy_made_elsewhere_is_the_one_display_makes(sphere_stl, tmp_path,
+                                                                 count_reads):
+    """seed_display stores what display_entry made in another process; display then reads
+    it from the cache, equal to what it would have made itself."""
+    from urdfinertia.render.scene import decimate
+
+    cache = SolidsCache(tmp_path / "cache")
+    lib = MeshLibrary(cache=cache)
+    assert not lib.display_cached(sphere_stl, 100)
+    made = meshlib.display_entry(load_mesh(sphere_stl, 10**6), 100, decimate)
+    lib.seed_display(sphere_stl, 100, *made)
+    assert lib.display_cached(sphere_stl, 100)
+    assert not lib.display_cached(sphere_stl, 101)  # per face cap
+    count_reads.clear()
+    v, f, faces, how = lib.display(sphere_stl, 100, decimate)
+    assert count_reads == []  # from the cache
+    ref_v, ref_f, ref_faces, ref_how = MeshLibrary().display(sphere_stl, 100, decimate)
+    np.testing.assert_array_equal(v, ref_v)
+    np.testing.assert_array_equal(f, ref_f)
+    assert (faces, how) == (ref_faces, ref_how) and len(f) <= 150 < faces
+
+
+def test_seeding_a_display_copy_needs_a_cache_and_a_valid_entry(sphere_stl, tmp_path):
+    from urdfinertia.render.scene import decimate
+
+    made = meshlib.display_entry(load_mesh(sphere_stl, 10**6), 100, decimate)
+    MeshLibrary().seed_display(sphere_stl, 100, *made)  # no cache: nothing, no error
+    lib = MeshLibrary(cache=SolidsCache(tmp_path / "cache"))
+    header, numbers = made
+    bad = numbers.copy()
+    bad[-1] = header["vertices"]  # a face index past the vertices
+    lib.seed_display(sphere_stl, 100, header, bad)
+    assert not lib.display_cached(sphere_stl, 100)

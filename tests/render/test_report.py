@@ -260,3 +260,65 @@ def test_a_sixty_link_robot_stays_under_15_mb(tmp_path, erd_dir):
     print(f"talos_full_v2: {n_links} links, report {size / 1e6:.2f} MB")
     assert size < 15e6
     assert not math.isnan(size)
+
+
+def _three_balls(tmp_path: Path) -> Path:
+    """A robot of three links, each drawn with its own sphere mesh (1280 faces)."""
+    import trimesh
+
+    links, joints = [], []
+    for i in range(3):
+        trimesh.creation.icosphere(3, 0.05 + 0.01 * i).export(tmp_path / f"ball{i}.stl")
+        links.append(f"""<link name="l{i}"><inertial><mass value="1"/>
+  <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+  <visual><geometry><mesh filename="ball{i}.stl"/></geometry></visual>
+  <collision><geometry><sphere radius="{0.05 + 0.01 * i}"/></geometry></collision></link>""")
+        if i:
+            joints.append(f"""<joint name="j{i}" type="fixed"><parent link="l{i - 1}"/>
+  <child link="l{i}"/><origin xyz="0 0 0.2"/></joint>""")
+    urdf = tmp_path / "balls.urdf"
+    urdf.write_text(f'<robot name="balls">{"".join(links)}{"".join(joints)}</robot>')
+    return urdf
+
+
+def test_display_copies_are_made_by_workers_into_the_cache(tmp_path, monkeypatch):
+    """With -j 2 the display copies the cache lacks are made in worker processes and
+    stored; the scene built from them equals the one made in this process."""
+    from urdfinertia.cache.library import MeshLibrary, mesh_library
+    from urdfinertia.cli import build_parser
+    from urdfinertia.cli import report as report_cli
+    from urdfinertia.descriptions.formats import read_description
+    from urdfinertia.render.scene import build_scene, display_paths
+
+    urdf = _three_balls(tmp_path)
+    argv = ["report", str(urdf), "-o", str(tmp_path / "r.html"), "-j", "2",
+            "--view-faces", "900"]
+    args = build_parser(argv)[0].parse_args(argv)
+    monkeypatch.setattr(report_cli, "DISPLAY_WORKERS_FROM_BYTES", 0)  # tiny meshes
+    meshes = mesh_library(cache_dir=tmp_path / "cache")
+    robot, _ = read_description(urdf)
+    paths, cap = display_paths(robot, meshes, "visual", 900)
+    assert len(paths) == 3 and cap == 300
+    assert not any(meshes.display_cached(p, cap) for p in paths)
+    report_cli.prepare_display(args, meshes)
+    assert all(meshes.display_cached(p, cap) for p in paths)
+    here = build_scene(robot, MeshLibrary(), face_budget=900)  # no cache: made here
+    there = build_scene(robot, meshes, face_budget=900)
+    assert [m.method for m in there.meshes] == ["quadric decimation"] * 3
+    for a, b in zip(here.meshes, there.meshes, strict=True):
+        np.testing.assert_array_equal(a.vertices, b.vertices)
+        np.testing.assert_array_equal(a.faces, b.faces)
+
+
+def test_report_pages_do_not_depend_on_the_workers(tmp_path, monkeypatch):
+    urdf = _three_balls(tmp_path)
+    from urdfinertia.cli import report as report_cli
+
+    monkeypatch.setattr(report_cli, "DISPLAY_WORKERS_FROM_BYTES", 0)
+    pages = []
+    for jobs in ("1", "2"):
+        out = tmp_path / f"r{jobs}.html"
+        assert main(["report", str(urdf), "-o", str(out), "-j", jobs, "--view-faces", "900",
+                     "--cache-dir", str(tmp_path / f"cache{jobs}")]) == 0
+        pages.append(out.read_bytes())
+    assert pages[0] == pages[1]

@@ -243,3 +243,51 @@ def test_a_cone_is_drawn_centred_with_its_apex_up():
     base = vertices[vertices[:, 2] < -0.2 + 1e-12]
     assert np.hypot(base[:, 0], base[:, 1]).max() == pytest.approx(0.1)
     assert faces.max() < len(vertices)
+
+
+# Closed forms of the volumes; a drawn round primitive is inscribed in its shape, so its
+# volume is a little smaller: with 24 segments a circle keeps sin(2 pi/24) 24/(2 pi) =
+# 98.9 % of its area, and the 12 rings of a sphere lose about as much again.
+_PRIMITIVES = [
+    ("box", lambda m: m.Box(size=(0.3, 0.2, 0.1)), 0.3 * 0.2 * 0.1, 1.0),
+    ("cylinder", lambda m: m.Cylinder(radius=0.1, length=0.4), np.pi * 0.01 * 0.4, 0.985),
+    ("cone", lambda m: m.Cone(radius=0.1, length=0.4), np.pi * 0.01 * 0.4 / 3, 0.985),
+    ("sphere", lambda m: m.Sphere(radius=0.2), 4 / 3 * np.pi * 0.2 ** 3, 0.96),
+    ("ellipsoid", lambda m: m.Ellipsoid(radii=(0.1, 0.2, 0.3)),
+     4 / 3 * np.pi * 0.1 * 0.2 * 0.3, 0.96),
+    ("capsule", lambda m: m.Capsule(radius=0.1, length=0.3),
+     np.pi * 0.01 * 0.3 + 4 / 3 * np.pi * 0.1 ** 3, 0.96),
+]
+
+
+@pytest.mark.parametrize(("name", "make", "volume", "least"), _PRIMITIVES,
+                         ids=[p[0] for p in _PRIMITIVES])
+def test_primitives_are_closed_outward_and_inscribed(name, make, volume, least):
+    from urdfinertia.descriptions import model
+    from urdfinertia.render.scene import primitive_triangles
+
+    vertices, faces = primitive_triangles(make(model))
+    mesh = trimesh.Trimesh(vertices, faces, process=False)  # an independent judge
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    assert least * volume <= mesh.volume <= volume * (1 + 1e-12)  # positive: outward
+    assert faces.min() == 0 and faces.max() == len(vertices) - 1  # no stray vertex
+
+
+def test_revolved_refuses_a_profile_without_a_ring():
+    from urdfinertia.render.scene import revolved
+
+    with pytest.raises(ValueError, match="shape"):
+        revolved(np.array([[0.0, 0.0], [0.0, 1.0]]))
+
+
+def test_primitives_need_no_mesh_library():
+    # a warm report draws its primitives without importing trimesh (seconds of imports)
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom urdfinertia.descriptions.model import Sphere\n"
+            "from urdfinertia.render.scene import primitive_triangles\n"
+            "primitive_triangles(Sphere(radius=1.0))\nprint('trimesh' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "False"

@@ -36,8 +36,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import linprog
-from scipy.spatial import ConvexHull, QhullError
 
 from urdfinertia.inertia.realizable import central_second_moment, centred_points
 
@@ -111,6 +109,8 @@ def convex_hull(points: ArrayLike) -> Hull:
 
     Raises ``ValueError`` for no points or non-finite ones.
     """
+    from scipy.spatial import ConvexHull, QhullError
+
     mean, centred = centred_points(points)
     try:
         qh = ConvexHull(centred)
@@ -234,6 +234,9 @@ class _Programme:
 
     def decide(self, b: np.ndarray) -> bool | None:
         """True: realizable (weights found); False: a certificate; None: undecided."""
+        # imported here: scipy.optimize takes longer to import than a warm check's work
+        from scipy.optimize import linprog
+
         self._seed(b)
         for _ in range(MAX_ROUNDS):
             n = len(self.columns)

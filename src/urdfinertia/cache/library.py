@@ -108,6 +108,29 @@ def hull_points(points: np.ndarray) -> np.ndarray:
         return points
 
 
+def display_entry(mesh: TriangleMesh, max_faces: int, reduce: Reducer,
+                  ) -> tuple[dict, np.ndarray]:
+    """The cache entry of :meth:`MeshLibrary.display` made from ``mesh``: a header (how it
+    was reduced, its vertex count, the file's face count) and its numbers (vertices, then
+    faces)."""
+    v, f, how = reduce(mesh.vertices, mesh.faces, max_faces)
+    v = np.asarray(v, dtype=np.float64)
+    f = np.asarray(f, dtype=np.int64)
+    return ({"method": how, "vertices": len(v), "faces": len(mesh.faces)},
+            np.concatenate([v.ravel(), f.ravel()]))
+
+
+def _display_kind(max_faces: int) -> str:
+    return f"view-{int(max_faces)}"
+
+
+def _display_valid(header: dict, numbers: np.ndarray) -> bool:
+    n = header.get("vertices")
+    return (isinstance(n, int) and 0 <= 3 * n <= len(numbers)
+            and (len(numbers) - 3 * n) % 3 == 0
+            and bool(np.all(numbers[3 * n:] < n)) and bool(np.all(numbers[3 * n:] >= 0)))
+
+
 def fresh(exc: Exception) -> Exception:
     """A new exception equal to ``exc`` with its own attributes (context is added per use).
 
@@ -289,20 +312,9 @@ class MeshLibrary:
         MeshError
             As :func:`~urdfinertia.mesh.read.load.load_mesh`.
         """
-        def make(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
-            v, f, how = reduce(mesh.vertices, mesh.faces, max_faces)
-            v = np.asarray(v, dtype=np.float64)
-            f = np.asarray(f, dtype=np.int64)
-            return {"method": how, "vertices": len(v)}, np.concatenate([v.ravel(), f.ravel()])
-
-        def valid(header: dict, numbers: np.ndarray) -> bool:
-            n = header.get("vertices")
-            return (isinstance(n, int) and 0 <= 3 * n <= len(numbers)
-                    and (len(numbers) - 3 * n) % 3 == 0
-                    and bool(np.all(numbers[3 * n:] < n)) and bool(np.all(numbers[3 * n:] >= 0)))
-
-        header, numbers, faces = self._derived(self._key(path), f"view-{int(max_faces)}",
-                                               make, valid)
+        header, numbers, faces = self._derived(
+            self._key(path), _display_kind(max_faces),
+            lambda mesh: display_entry(mesh, max_faces, reduce), _display_valid)
         n = header["vertices"]
         return (numbers[:3 * n].reshape(-1, 3), numbers[3 * n:].astype(np.int64).reshape(-1, 3),
                 faces, str(header.get("method", "")))
@@ -322,6 +334,26 @@ class MeshLibrary:
         """
         header, numbers, _ = self._derived(self._key(path), kind, make, valid)
         return header, numbers
+
+    def display_cached(self, path: Path, max_faces: int) -> bool:
+        """Whether the persistent cache holds :meth:`display`'s copy of ``path`` for
+        ``max_faces`` (False without a cache)."""
+        if self.cache is None:
+            return False
+        _, hit = self.cache.lookup_arrays(self._key(path), self.max_faces,
+                                          _display_kind(max_faces))
+        return hit is not None and not isinstance(hit, MeshError) and _display_valid(*hit)
+
+    def seed_display(self, path: Path, max_faces: int, header: dict,
+                     numbers: np.ndarray) -> None:
+        """Store in the persistent cache a :func:`display_entry` made elsewhere (another
+        process), for :meth:`display` to find; nothing without a cache."""
+        if self.cache is None or not _display_valid(header, numbers):
+            return
+        kind = _display_kind(max_faces)
+        with self.timer.stage("cache"):
+            entry, _ = self.cache.lookup_arrays(self._key(path), self.max_faces, kind)
+            self.cache.store_arrays(entry, kind, header, numbers)
 
     def _derived(self, key: Path, kind: str,
                  make: Callable[[TriangleMesh], tuple[dict, np.ndarray]],

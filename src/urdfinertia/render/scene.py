@@ -26,6 +26,7 @@ from urdfinertia.descriptions.model import (
     Cone,
     Cylinder,
     Ellipsoid,
+    GeometryRef,
     Inertial,
     Link,
     Mesh,
@@ -200,28 +201,75 @@ def used_only(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.n
     return np.asarray(vertices)[faces.reshape(-1)[first]], inverse.reshape(faces.shape)
 
 
-def primitive_triangles(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
-    """Coarse triangles of a URDF primitive in its geometry frame."""
-    import trimesh
+#: Segments around the axis of a drawn round primitive, and rings from pole to pole of a
+#: sphere (a capsule's ends share them): coarse, the shape only has to be recognisable.
+ROUND_SECTIONS = 24
+SPHERE_RINGS = 12
 
+
+def primitive_triangles(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
+    """Coarse triangles of a primitive in its geometry frame, outward-facing: (n, 3) float
+    vertices (m) and (k, 3) int faces. Made here with numpy (no mesh library to import:
+    a warm report draws its primitives without one)."""
     if isinstance(shape, Box):
-        m = trimesh.creation.box(extents=shape.size)
-    elif isinstance(shape, Cylinder):
-        m = trimesh.creation.cylinder(radius=shape.radius, height=shape.length, sections=24)
-    elif isinstance(shape, Sphere):
-        m = trimesh.creation.icosphere(subdivisions=2, radius=shape.radius)
-    elif isinstance(shape, Capsule):
-        m = trimesh.creation.capsule(height=shape.length, radius=shape.radius, count=[16, 8])
-    elif isinstance(shape, Cone):
-        # trimesh's cone stands on z = 0; the model's is centred (apex at +length/2)
-        m = trimesh.creation.cone(radius=shape.radius, height=shape.length, sections=24)
-        m.apply_translation((0.0, 0.0, -shape.length / 2))
-    elif isinstance(shape, Ellipsoid):
-        m = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
-        m.apply_scale(shape.radii)
-    else:
-        raise TypeError(f"not a primitive: {shape!r}")
-    return np.asarray(m.vertices), np.asarray(m.faces)
+        signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)],
+                         dtype=np.float64)
+        return signs * (0.5 * np.asarray(shape.size, dtype=np.float64)), _BOX_FACES.copy()
+    if isinstance(shape, Cylinder):
+        r, h = shape.radius, shape.length / 2
+        return revolved(np.array([[0.0, -h], [r, -h], [r, h], [0.0, h]]))
+    if isinstance(shape, Cone):  # centred, apex at +length/2 (the model's convention)
+        r, h = shape.radius, shape.length / 2
+        return revolved(np.array([[0.0, -h], [r, -h], [0.0, h]]))
+    if isinstance(shape, Sphere):
+        return revolved(_half_circle(shape.radius, SPHERE_RINGS))
+    if isinstance(shape, Ellipsoid):
+        v, f = revolved(_half_circle(1.0, SPHERE_RINGS))
+        return v * np.asarray(shape.radii, dtype=np.float64), f
+    if isinstance(shape, Capsule):
+        arc = _half_circle(shape.radius, SPHERE_RINGS)
+        half = SPHERE_RINGS // 2  # the equator is the last point of the lower end
+        lower = arc[:half + 1] - [0.0, shape.length / 2]
+        upper = arc[half:] + [0.0, shape.length / 2]
+        return revolved(np.vstack([lower, upper]))
+    raise TypeError(f"not a primitive: {shape!r}")
+
+
+def _half_circle(radius: float, rings: int) -> np.ndarray:
+    """(rings + 1, 2) (r, z) from the south pole to the north pole."""
+    theta = np.linspace(0.0, np.pi, rings + 1)
+    return radius * np.column_stack([np.sin(theta), -np.cos(theta)])
+
+
+def revolved(profile: np.ndarray, sections: int = ROUND_SECTIONS,
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """The closed surface swept by turning ``profile`` about z.
+
+    profile : (m, 2) float, (r, z) points from the bottom of the axis to its top; its first
+    and last points have r = 0 (poles, one vertex each), the others r > 0 (a ring of
+    ``sections`` vertices each). Faces are wound outward (counter-clockwise seen from
+    outside).
+    """
+    profile = np.asarray(profile, dtype=np.float64)
+    if profile.ndim != 2 or profile.shape[1] != 2 or len(profile) < 3:
+        raise ValueError(f"profile must have shape (m >= 3, 2), got {profile.shape}")
+    phi = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
+    ring = np.column_stack([np.cos(phi), np.sin(phi)])
+    inner = profile[1:-1]
+    rings = np.concatenate([
+        np.column_stack([r * ring, np.full(sections, z)]) for r, z in inner])
+    bottom, top = len(rings), len(rings) + 1
+    vertices = np.vstack([rings, [[0.0, 0.0, profile[0, 1]], [0.0, 0.0, profile[-1, 1]]]])
+    k = np.arange(sections)
+    nxt = (k + 1) % sections
+    faces = [np.column_stack([np.full(sections, bottom), nxt, k])]  # bottom fan
+    for i in range(len(inner) - 1):
+        a, b = i * sections, (i + 1) * sections
+        faces.append(np.column_stack([a + k, a + nxt, b + nxt]))
+        faces.append(np.column_stack([a + k, b + nxt, b + k]))
+    last = (len(inner) - 1) * sections
+    faces.append(np.column_stack([np.full(sections, top), last + k, last + nxt]))  # top fan
+    return vertices, np.concatenate(faces).astype(np.int64)
 
 
 def view_refs(link: Link, mode: str):
@@ -231,22 +279,69 @@ def view_refs(link: Link, mode: str):
     return first or second
 
 
+def display_plan(robot: Robot, view: str = "visual",
+                 face_budget: int = DEFAULT_VIEW_FACES,
+                 ) -> tuple[list[tuple[Link, GeometryRef]], int]:
+    """The elements drawn (link, element) and the face cap of each mesh: the budget is
+    shared evenly by the mesh elements (primitives are small anyway)."""
+    if view not in VIEW_MODES:
+        raise ValueError(f"view must be one of {VIEW_MODES}")
+    items = [(link, ref) for link in robot.links for ref in view_refs(link, view)]
+    n_mesh = sum(isinstance(ref.shape, Mesh) for _, ref in items)
+    return items, max(MIN_FACES_PER_MESH, face_budget // max(n_mesh, 1))
+
+
+def display_paths(robot: Robot, meshes: MeshLibrary, view: str = "visual",
+                  face_budget: int = DEFAULT_VIEW_FACES) -> tuple[list[Path], int]:
+    """The distinct mesh files :func:`build_scene` draws (those that resolve) and their
+    face cap: what can be prepared ahead, in other processes (:func:`display_task`)."""
+    items, cap = display_plan(robot, view, face_budget)
+    urdf_dir = (robot.path or Path("robot.urdf")).parent
+    paths: dict[Path, None] = {}
+    for _, ref in items:
+        if isinstance(ref.shape, Mesh):
+            try:
+                paths[meshes.resolve(ref.shape.filename, urdf_dir).resolve()] = None
+            except UrdfInertiaError:
+                continue  # build_scene says why
+    return list(paths), cap
+
+
+def load_display_modules() -> None:
+    """Import what reads and decimates display meshes (trimesh, fast-simplification), so
+    that worker processes forked afterwards inherit it instead of each importing it."""
+    try:
+        import fast_simplification  # noqa: F401
+        import trimesh  # noqa: F401
+    except ImportError:  # decimate falls back; a reader says what is missing
+        pass
+
+
+def display_task(path: str, max_faces: int, cap: int) -> tuple[dict, np.ndarray] | None:
+    """The display copy of one mesh file (:func:`~urdfinertia.cache.library.display_entry`
+    of :func:`decimate`), made in a worker process; None when the file cannot be read
+    (:func:`build_scene` then reads it again and says why, in context)."""
+    from urdfinertia.cache.library import display_entry
+    from urdfinertia.mesh.read.load import load_mesh
+
+    try:
+        return display_entry(load_mesh(Path(path), max_faces), cap, decimate)
+    except UrdfInertiaError:
+        return None
+
+
 def build_scene(robot: Robot, meshes: MeshLibrary, *, view: str = "visual",
                 face_budget: int = DEFAULT_VIEW_FACES) -> Scene:
     """Poses and decimated display meshes of every link at the zero configuration.
 
-    The face budget is shared evenly by the mesh elements (primitives are small anyway).
+    The face budget is shared evenly by the mesh elements (:func:`display_plan`).
     A display mesh that cannot be read is left out with a note: the report still shows
     the inertials.
     """
-    if view not in VIEW_MODES:
-        raise ValueError(f"view must be one of {VIEW_MODES}")
+    items, cap = display_plan(robot, view, face_budget)
     poses, kin_notes = zero_configuration_poses(robot)
     notes = list(kin_notes)
     urdf_dir = (robot.path or Path("robot.urdf")).parent
-    items = [(link, ref) for link in robot.links for ref in view_refs(link, view)]
-    n_mesh = sum(isinstance(ref.shape, Mesh) for _, ref in items)
-    cap = max(MIN_FACES_PER_MESH, face_budget // max(n_mesh, 1))
     memo: dict[Path, tuple[np.ndarray, np.ndarray, int, str]] = {}
     out: list[ViewMesh] = []
     for link, ref in items:
