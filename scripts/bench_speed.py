@@ -17,9 +17,10 @@ Rows, each in a fresh child process running a snapshot of the package taken at t
    ``check`` twice on a private cache (the second reads what the first stored), then
    ``report`` (time and HTML size) cold, after the fix (its cache), and once more.
 
-Wall time is the child's whole life (interpreter start, imports, work). Peak memory is
-the child's own high-water mark plus its largest worker's (Linux ``VmHWM`` and
-``RUSAGE_CHILDREN``). Ratios are to the naive row of the same run: the machine may be
+Wall time is the child's whole life (interpreter start, imports, work). Memory and CPU
+of the child's process tree are sampled from this process every 50 ms (a sampling
+thread in the child would make the command start its workers by forkserver, not fork,
+as it never does for a user): each process's peak and the peak of their sum. Ratios are to the naive row of the same run: the machine may be
 shared, so the load average is printed at the start and the end.
 
 Usage: python scripts/bench_speed.py [--robots DIR] [--against REF] [--robot FILE]
@@ -58,15 +59,19 @@ class TreeMemory:
     sampled every ``interval`` seconds from ``/proc``: each process's own peak and the
     peak of their sum (the whole run's footprint). Linux only; empty elsewhere."""
 
-    def __init__(self, interval: float = 0.05) -> None:
+    def __init__(self, interval: float = 0.05, root: int | None = None) -> None:
         import threading
 
         self.interval = interval
+        #: the process whose tree is sampled (default: this one)
+        self.root = os.getpid() if root is None else root
         self.per_pid: dict[int, float] = {}
         #: CPU seconds (user + system) last seen of each process of the tree: workers
         #: started by a fork server are not this process's children, so getrusage's
         #: RUSAGE_CHILDREN misses them
         self.cpu: dict[int, float] = {}
+        #: parent of each process seen in the tree
+        self.parent: dict[int, int] = {}
         self.total = 0.0
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
@@ -85,7 +90,7 @@ class TreeMemory:
             self._stop.wait(self.interval)
 
     def sample(self) -> None:
-        me = os.getpid()
+        me = self.root
         children: dict[int, list[int]] = {}
         rss: dict[int, float] = {}
         try:
@@ -104,7 +109,9 @@ class TreeMemory:
         while todo:
             pid = todo.pop()
             tree.append(pid)
-            todo.extend(children.get(pid, []))
+            for kid in children.get(pid, []):
+                self.parent[kid] = pid
+                todo.append(kid)
         total = 0.0
         tick = os.sysconf("SC_CLK_TCK")
         for pid in tree:
@@ -128,20 +135,16 @@ def child_cli(argv: list[str], cache_dir: Path) -> dict:
     from urdfinertia.cli import main
 
     start = time.perf_counter()
-    with TreeMemory() as memory, contextlib.redirect_stdout(io.StringIO()), \
-            contextlib.redirect_stderr(io.StringIO()):
+    # no sampling thread here: with a thread running, the command would start its workers
+    # by forkserver instead of fork, as it never does for a user (the parent samples)
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
         code = main(argv)
     work = time.perf_counter() - start
     own, kids = bench.peak_mb()
-    workers = sorted((mb for pid, mb in memory.per_pid.items() if pid != os.getpid()),
-                     reverse=True)
     import urdfinertia
 
     return {"work": work, "code": code, "peak_main_mb": own, "peak_worker_mb": kids,
-            "workers_mb": workers, "tree_mb": memory.total,
-            "cpu": cpu_seconds() + sum(c for pid, c in memory.cpu.items()
-                                       if pid != os.getpid()),
-            "module": urdfinertia.__file__}
+            "cpu": cpu_seconds(), "module": urdfinertia.__file__}
 
 
 def cpu_seconds() -> float:
@@ -201,11 +204,33 @@ def child_meshes(robots: Path) -> dict:
 # ---------------------------------------------------------------------------- parent
 
 def run_child(args: list[str], code: Path) -> tuple[float, dict]:
-    """This script as a child on the package at ``code`` (checked to be the one loaded)."""
-    wall, res = bench.run_child(args, code, __file__)
+    """This script as a child on the package at ``code`` (checked to be the one loaded),
+    its process tree (the child and its workers) sampled from here: per process peaks
+    (``workers_mb``), the peak of their sum (``tree_mb``), and CPU seconds of workers
+    that are not the child's own children (a fork server's)."""
+    import subprocess
+
+    env = dict(os.environ, PYTHONPATH=str(code))
+    start = time.perf_counter()
+    proc = subprocess.Popen([sys.executable, __file__, *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env)
+    with TreeMemory(root=proc.pid) as memory:
+        out, err = proc.communicate()
+    wall = time.perf_counter() - start
+    if proc.returncode != 0:
+        sys.exit(f"child {args} failed:\n{err}")
+    res = json.loads(out.strip().splitlines()[-1])
     if "module" in res:
         assert res["module"].startswith(str(code)), res["module"]
+    res["workers_mb"] = sorted((mb for pid, mb in memory.per_pid.items() if pid != proc.pid),
+                               reverse=True)
+    res["tree_mb"] = memory.total
+    # workers of a fork server are not reaped by the child: their CPU is added here
+    res["cpu"] = res.get("cpu", 0.0) + sum(
+        c for pid, c in memory.cpu.items()
+        if pid != proc.pid and memory.parent.get(pid) != proc.pid)
     return wall, res
+
 
 
 def cli(code: Path, cache: Path, *argv: str) -> tuple[float, dict]:

@@ -19,7 +19,6 @@ The stated error of the wall volume is the depth's band over the surface,
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from urdfinertia.inertia.polyhedron import solid_integrals
 from urdfinertia.inertia.shell import Moments, Shell, ShellError
@@ -70,6 +69,8 @@ def _interior(v: np.ndarray, f: np.ndarray, t: float, h: float) -> Moments:
     shape = np.ceil((v.max(axis=0) + 2 * h - origin) / h).astype(np.int64) + 1
     inside = _inside(v, f, origin, h, shape)
     # distance from each inside centre to the nearest outside centre (module docstring)
+    from scipy import ndimage  # here: a run that voxelises nothing does not import it
+
     depth = ndimage.distance_transform_edt(inside, sampling=h) - _BAND * h
     # each voxel's share of the interior, ramping over one voxel across its boundary
     # (a ramp integrates like the step it replaces, without the staircase)
