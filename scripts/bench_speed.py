@@ -20,8 +20,9 @@ Rows, each in a fresh child process running a snapshot of the package taken at t
 Wall time is the child's whole life (interpreter start, imports, work). Memory and CPU
 of the child's process tree are sampled from this process every 50 ms (a sampling
 thread in the child would make the command start its workers by forkserver, not fork,
-as it never does for a user): each process's peak and the peak of their sum. Ratios are to the naive row of the same run: the machine may be
-shared, so the load average is printed at the start and the end.
+as it never does for a user): each process's peak and the peak of their sum. Ratios are
+to the naive row of the same run: the machine may be shared, so the load average is
+printed at the start and the end.
 
 Usage: python scripts/bench_speed.py [--robots DIR] [--against REF] [--robot FILE]
                                      [--robot-only]
