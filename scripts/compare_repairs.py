@@ -21,7 +21,6 @@ import json
 import os
 import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -76,23 +75,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     base = args.mesh_dir or example_robot_data_robots()
     files = sorted(p for p in base.rglob("*") if p.suffix.lower() in (".stl", ".obj", ".dae"))
-    with tempfile.TemporaryDirectory() as tmp:
-        trees = {}
-        for tag, ref in (("old", args.old), ("new", args.new)):
-            if ref is None:
-                trees[tag] = ROOT / "src"
-                continue
-            wt = Path(tmp) / tag
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", str(wt),
-                            ref], check=True, capture_output=True)
-            trees[tag] = wt / "src"
-        try:
-            old, new = measure(trees["old"], files), measure(trees["new"], files)
-        finally:
-            for tag, ref in (("old", args.old), ("new", args.new)):
-                if ref is not None:
-                    subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
-                                    str(Path(tmp) / tag)], capture_output=True)
+    from support.revisions import revision_sources
+
+    with revision_sources(ROOT, {"old": args.old, "new": args.new}) as trees:
+        old, new = measure(trees["old"], files), measure(trees["new"], files)
     changed = beyond = errors = 0
     print(f"{len(files)} mesh files under {base}")
     print(f"{'file':60s} {'volume':>10s} {'tensor':>10s} {'stated':>10s}")

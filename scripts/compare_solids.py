@@ -26,7 +26,6 @@ import json
 import os
 import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -155,24 +154,11 @@ def main(argv: list[str] | None = None) -> int:
     files = referenced_meshes(args.robots)[:args.limit]
     print(f"{len(files)} mesh files referenced under {args.robots.name}/ (collision and "
           "visual)", flush=True)
-    with tempfile.TemporaryDirectory(prefix="urdfinertia-solids-") as tmp:
-        trees = {}
-        for tag, ref in (("old", args.old), ("new", args.new)):
-            if ref is None:
-                trees[tag] = ROOT / "src"
-                continue
-            wt = Path(tmp) / tag
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q",
-                            str(wt), ref], check=True)
-            trees[tag] = wt / "src"
-        try:
-            old = measure(trees["old"], files, args.max_faces)
-            new = measure(trees["new"], files, args.max_faces)
-        finally:
-            for tag, ref in (("old", args.old), ("new", args.new)):
-                if ref is not None:
-                    subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
-                                    str(Path(tmp) / tag)], check=False)
+    from support.revisions import revision_sources
+
+    with revision_sources(ROOT, {"old": args.old, "new": args.new}) as trees:
+        old = measure(trees["old"], files, args.max_faces)
+        new = measure(trees["new"], files, args.max_faces)
     names = {"old": args.old, "new": args.new or "this checkout"}
     peaks = {"old": old.pop("__peak_mb__"), "new": new.pop("__peak_mb__")}
     differing = 0

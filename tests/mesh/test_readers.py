@@ -528,15 +528,7 @@ def test_dae_instance_node(tmp_path):
 def test_dae_textured_material_gives_the_same_solid(tmp_path):
     """A bound material makes trimesh keep texture coordinates, which split vertices:
     the weld must join them all the same."""
-    uv = """<source id="g-uv"><float_array id="g-uv-array" count="6">0 0 1 0 0 1</float_array>
-      <technique_common><accessor source="#g-uv-array" count="3" stride="2">
-        <param name="S" type="float"/><param name="T" type="float"/></accessor>
-      </technique_common></source>"""
-    prim = TRIANGLES.replace('offset="1"/>', 'offset="1"/>\n<input semantic="TEXCOORD" '
-                             'source="#g-uv" offset="2" set="0"/>')
-    prim = prim.replace("<p>0 0 2 0 1 0  0 0 3 0 2 0  0 1 1 1 4 1  1 2 2 2 4 2</p>",
-                        "<p>0 0 0 2 0 1 1 0 2  0 0 1 3 0 0 2 0 2  0 1 0 1 1 1 4 1 2  "
-                        "1 2 0 2 2 1 4 2 2</p>")
+    uv, prim = _uv_triangles()
     extra = """<library_effects><effect id="e"><profile_COMMON><technique sid="c"><phong>
       <diffuse><color>0.5 0.5 0.5 1</color></diffuse><shininess><float>20</float></shininess>
       </phong></technique></profile_COMMON></effect></library_effects>
