@@ -36,11 +36,3 @@ def _private_cache_dir(tmp_path_factory):
         mp.setenv("URDFINERTIA_CACHE_DIR", str(tmp_path_factory.mktemp("urdfinertia-cache")))
         yield
 
-
-@pytest.fixture(autouse=True)
-def _workers_for_any_work(monkeypatch):
-    """Tests with ``jobs > 1`` exercise the worker processes even on tiny meshes (a real
-    run keeps small work in one process: ``batch.run.WORKERS_FROM_BYTES``)."""
-    from urdfinertia.batch import run
-
-    monkeypatch.setattr(run, "WORKERS_FROM_BYTES", 0)
