@@ -284,9 +284,10 @@ def _three_balls(tmp_path: Path) -> Path:
 def test_display_copies_are_made_by_workers_into_the_cache(tmp_path, monkeypatch):
     """With -j 2 the display copies the cache lacks are made in worker processes and
     stored; the scene built from them equals the one made in this process."""
+    from urdfinertia.batch import display
     from urdfinertia.cache.library import MeshLibrary, mesh_library
     from urdfinertia.cli import build_parser
-    from urdfinertia.cli import report as report_cli
+    from urdfinertia.cli.batch import settings_from_args
     from urdfinertia.descriptions.formats import read_description
     from urdfinertia.render.scene import build_scene, display_paths
 
@@ -294,13 +295,14 @@ def test_display_copies_are_made_by_workers_into_the_cache(tmp_path, monkeypatch
     argv = ["report", str(urdf), "-o", str(tmp_path / "r.html"), "-j", "2",
             "--view-faces", "900"]
     args = build_parser(argv)[0].parse_args(argv)
-    monkeypatch.setattr(report_cli, "DISPLAY_WORKERS_FROM_BYTES", 0)  # tiny meshes
+    monkeypatch.setattr(display, "DISPLAY_WORKERS_FROM_BYTES", 0)  # tiny meshes
     meshes = mesh_library(cache_dir=tmp_path / "cache")
     robot, _ = read_description(urdf)
     paths, cap = display_paths(robot, meshes, "visual", 900)
     assert len(paths) == 3 and cap == 300
     assert not any(meshes.display_cached(p, cap) for p in paths)
-    report_cli.prepare_display(args, meshes)
+    display.prepare_display(args.urdf, meshes, args.view, args.view_faces,
+                            settings_from_args(args))
     assert all(meshes.display_cached(p, cap) for p in paths)
     here = build_scene(robot, MeshLibrary(), face_budget=900)  # no cache: made here
     there = build_scene(robot, meshes, face_budget=900)
@@ -312,9 +314,9 @@ def test_display_copies_are_made_by_workers_into_the_cache(tmp_path, monkeypatch
 
 def test_report_pages_do_not_depend_on_the_workers(tmp_path, monkeypatch):
     urdf = _three_balls(tmp_path)
-    from urdfinertia.cli import report as report_cli
+    from urdfinertia.batch import display
 
-    monkeypatch.setattr(report_cli, "DISPLAY_WORKERS_FROM_BYTES", 0)
+    monkeypatch.setattr(display, "DISPLAY_WORKERS_FROM_BYTES", 0)
     pages = []
     for jobs in ("1", "2"):
         out = tmp_path / f"r{jobs}.html"
