@@ -30,7 +30,6 @@ Otherwise a loop's stated uncertainty is the larger of:
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -40,6 +39,7 @@ from urdfinertia.inertia.polyhedron import cross_rows, face_volumes
 from urdfinertia.mesh.repair.graph import EdgeTable, boundary_edges, sort_order
 from urdfinertia.mesh.repair.level_caps import level_caps, level_caps_points
 from urdfinertia.mesh.repair.loops import boundary_cycles, ordered_cycles
+from urdfinertia.mesh.repair.triangulation import best_triangulations
 from urdfinertia.mesh.repair.winding import RayCounter, winding_numbers
 from urdfinertia.timing import Deadline
 
@@ -62,7 +62,7 @@ class HoleCaps:
         Loops closed by a winding-number level cap (:mod:`level_caps`).
     dependence : (k,) float
         m^3, how much the volume depends on the cap where there is a choice of caps
-        (triangulation against fan for loops of at most ``PLAN_CACHE_MAX`` edges), or a
+        (triangulation against fan for loops of at most ``SHORT_LOOP_MAX`` edges), or a
         spherical cap's volume over a larger loop at the fan's rim angle: the figure by
         which two whole repairs of one mesh are compared (see ``pipeline``).
     """
@@ -100,16 +100,13 @@ PLANAR_RTOL = 1e-9
 #: Largest simple loop (vertices) triangulated by dynamic programming (time and memory
 #: grow as its cube); larger ones get fans or level caps.
 TRIANGULATE_MAX = 200
-#: Largest loop whose programme's index arrays are kept for reuse.
-PLAN_CACHE_MAX = 40
+#: Loops of at most this many edges are short: always triangulated (a few lost
+#: triangles), without a winding-number vote; longer ones are wide.
+SHORT_LOOP_MAX = 40
 #: Candidate triangles (s^3 / 6 per loop of s edges) the programme may cost, per surface,
-#: for loops longer than ``PLAN_CACHE_MAX``: about seven loops of 150 edges, ~1.5 s. The
-#: loops left over get fans or level caps.
+#: for loops longer than ``SHORT_LOOP_MAX``: about seven loops of 150 edges. The loops left
+#: over get fans or level caps.
 WIDE_TRIANGULATION_BUDGET = 1_000_000
-#: Candidate cap triangles costed at once (polygons x triangles), to bound memory.
-TRIANGULATE_BATCH = 200_000
-#: Weight of a cap triangle's relative area against its rim angle (radians): a tie-break.
-AREA_WEIGHT = 1e-3
 #: Steepest rim continuation the tent of the stated uncertainty assumes (radians).
 TENT_MAX_ANGLE = np.radians(60.0)
 #: Grid points per axis, and the fewest disputed points, of the winding-number vote on a
@@ -197,7 +194,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     # it stands only where the open surface's winding numbers side with it
     tri_all = _loop_volumes(fan_v, tri_f, tri_loop, n_loops)
     loop_size = np.bincount(loop, minlength=n_loops)
-    long_tri = has_tri & (loop_size > PLAN_CACHE_MAX)
+    long_tri = has_tri & (loop_size > SHORT_LOOP_MAX)
     if long_tri.any():
         ids = np.flatnonzero(long_tri)
         refuted = _winding_refutes(fan_v, faces, fan_f, fan_loop, tri_f, tri_loop,
@@ -254,7 +251,7 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     plane_angle = np.bincount(loop, weights=np.arccos(plane_cos) * length,
                               minlength=n_loops) / np.maximum(perimeter, 1e-300)
     sagitta = 0.5 * diameter * np.tan(0.5 * np.minimum(plane_angle, 0.5 * np.pi))
-    short_tri = has_tri & (np.bincount(loop, minlength=n_loops) <= PLAN_CACHE_MAX)
+    short_tri = has_tri & (np.bincount(loop, minlength=n_loops) <= SHORT_LOOP_MAX)
     dependence = np.where(short_tri, np.abs(volume["tri"] - volume["fan"]),
                           0.5 * loop_area * np.maximum(depth, sagitta))
     dependence[flat] = 0.0
@@ -298,12 +295,20 @@ def _winding_refutes(vertices: np.ndarray, faces: np.ndarray, fan_f: np.ndarray,
         lo, hi = tri_tri.min(axis=0), tri_tri.max(axis=0)
         grid = np.stack(np.meshgrid(*(lo[i] + frac * (hi[i] - lo[i]) for i in range(3)),
                                     indexing="ij"), axis=-1).reshape(-1, 3)
-        w_fanned = counter(grid, exact_on_graze=False)
         own = np.arange(len(fan_tri)).reshape(-1, 3)
-        w_open = w_fanned - winding_numbers(grid, fan_tri, own)
-        w_tri = w_open + winding_numbers(grid, tri_tri, np.arange(len(tri_tri)).reshape(-1, 3))
+        w_fan = winding_numbers(grid, fan_tri, own)
+        w_tri_cap = winding_numbers(grid, tri_tri, np.arange(len(tri_tri)).reshape(-1, 3))
+        # the surface's count w is an integer: where the caps' winding numbers differ by
+        # at most 1/4, w - w_fan + w_tri_cap lies on w's side of 1/2 and nothing is
+        # disputed, so rays are counted only elsewhere (NaN included)
+        moved = ~(np.abs(w_tri_cap - w_fan) <= 0.25)
+        if np.count_nonzero(moved) < VOTE_MIN:
+            continue
+        w_fanned = counter(grid, exact_on_graze=False, only=moved)
+        w_open = w_fanned - w_fan
+        w_tri = w_open + w_tri_cap
         in_fan, in_tri = w_fanned > 0.5, w_tri > 0.5
-        disputed = in_fan != in_tri
+        disputed = (in_fan != in_tri) & moved
         if np.count_nonzero(disputed) < VOTE_MIN:
             continue
         with_tri = np.count_nonzero((w_open[disputed] > 0.5) == in_tri[disputed])
@@ -350,10 +355,11 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
                     loop: np.ndarray, rim_normal: np.ndarray, deadline: Deadline,
                     ) -> tuple[np.ndarray, np.ndarray]:
     """Best triangulation of each loop of 4..TRIANGULATE_MAX edges, the loops of more
-    than ``PLAN_CACHE_MAX`` edges smallest first within ``WIDE_TRIANGULATION_BUDGET``.
+    than ``SHORT_LOOP_MAX`` edges smallest first within ``WIDE_TRIANGULATION_BUDGET``.
 
-    Returns the cap faces and the loop of each. Loops of equal size are solved together:
-    the dynamic programme loops over polygon positions, never over loops or triangles.
+    Returns the cap faces and the loop of each. Loops of equal size are solved together
+    (:func:`~.triangulation.best_triangulations`: one step per interval width, vectorised
+    over intervals, splits and loops).
     """
     faces_out: list[np.ndarray] = []
     loops_out: list[np.ndarray] = []
@@ -362,7 +368,7 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
         s = order.shape[1]
         if s < 4:
             continue
-        if s > PLAN_CACHE_MAX:  # wide loops: the programme's work grows as s^3 / 6
+        if s > SHORT_LOOP_MAX:  # wide loops: the programme's work grows as s^3 / 6
             afford = min(len(ids), int(budget // (s ** 3 / 6)))
             if afford == 0:
                 break
@@ -370,146 +376,13 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
             budget -= afford * s ** 3 / 6
         deadline.check()
         corners = edges[order, 0]  # (L, s) vertex indices in boundary order
-        tris = _best_triangulation(vertices[corners], rim_normal[order])
+        tris = best_triangulations(vertices[corners], rim_normal[order])
         faces_out.append(np.take_along_axis(corners[:, None, :].repeat(s - 2, axis=1),
                                             tris, axis=2).reshape(-1, 3))
         loops_out.append(np.repeat(ids, s - 2))
     if not faces_out:
         return np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
     return np.concatenate(faces_out), np.concatenate(loops_out)
-
-
-def _best_triangulation(points: np.ndarray, rim: np.ndarray,
-                        plan: tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple]] | None
-                        = None) -> np.ndarray:
-    """Triangulations of polygons minimising rim angles (interval dynamic programme).
-
-    Parameters
-    ----------
-    points : (L, s, 3) float
-        Polygon corners in the order the surface runs along its boundary.
-    rim : (L, s, 3) float
-        Unit normal of the surface face along edge ``i -> i+1``.
-    plan : optional
-        ``_interval_plan(s)``, when the caller has it (batches of wide loops share one).
-
-    Returns
-    -------
-    (L, s - 2, 3) int
-        Corner positions of each cap triangle, oriented against the boundary.
-    """
-    n_poly, s, _ = points.shape
-    # every candidate triangle (i < k < j) is costed once, all in one vectorised call
-    whole = plan if plan is not None else _interval_plan(s)
-    tri_i, tri_k, tri_j, steps = whole
-    step = max(1, TRIANGULATE_BATCH // len(tri_i))
-    if n_poly > step:  # bound the temporaries: the polygons are independent (one plan)
-        return np.concatenate([_best_triangulation(points[a:a + step], rim[a:a + step],
-                                                   whole)
-                               for a in range(0, n_poly, step)])
-    scale = np.maximum(np.sum(np.linalg.norm(np.diff(points, axis=1), axis=2), axis=1), 1e-300)
-    tri_cost = _triangle_cost(points, rim, tri_i, tri_k, tri_j, scale, s)
-    cost = np.full((n_poly, s, s), np.inf)
-    choice = np.zeros((n_poly, s, s), dtype=np.int64)
-    idx = np.arange(s - 1)
-    cost[:, idx, idx + 1] = 0.0
-    flat_cost = cost.reshape(n_poly, s * s)  # views: one flat index per lookup
-    flat_choice = choice.reshape(n_poly, s * s)
-    for ik, kj, tri, ij, first_k in steps:  # by interval width: all i, splits, polygons
-        c = flat_cost[:, ik] + flat_cost[:, kj] + tri_cost[:, tri]
-        best = np.argmin(c, axis=2)
-        flat_cost[:, ij] = np.take_along_axis(c, best[..., None], axis=2)[..., 0]
-        flat_choice[:, ij] = first_k + best
-    # unfold the choices breadth-first: every interval of width >= 2 yields one triangle
-    poly = np.arange(n_poly)
-    lo = np.zeros(n_poly, dtype=np.int64)
-    hi = np.full(n_poly, s - 1, dtype=np.int64)
-    found: list[np.ndarray] = []
-    while len(poly):  # one pass per level of the triangulation trees
-        wide = hi - lo >= 2
-        poly, lo, hi = poly[wide], lo[wide], hi[wide]
-        mid = choice[poly, lo, hi]
-        found.append(np.stack([poly, hi, mid, lo], axis=1))
-        poly = np.concatenate([poly, poly])
-        lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
-    flat = np.concatenate(found)
-    flat = flat[np.argsort(flat[:, 0], kind="stable")]
-    tris = flat[:, 1:].reshape(n_poly, s - 2, 3)
-    return tris
-
-
-def _interval_plan(s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple]]:
-    """:func:`_plan`, kept for reuse up to ``PLAN_CACHE_MAX`` corners (larger plans take
-    tens of megabytes)."""
-    return _cached_plan(s) if s <= PLAN_CACHE_MAX else _plan(s)
-
-
-def _plan(s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple]]:
-    """Index arrays of the interval programme on an ``s``-gon (the same for every loop).
-
-    Returns the corner positions ``i < k < j`` of every candidate triangle, and per
-    interval width ``gap = 2 .. s-1`` the flat ``(s, s)`` indices of the sub-intervals
-    ``(i, k)`` and ``(k, j)``, each split's triangle, the intervals ``(i, j)`` and
-    their first split ``i + 1``.
-    """
-    # the candidates in lexicographic order, and each one's rank in it by formula: the
-    # pairs (i, k) in order, each followed by its s - 1 - k triangles (an (s, s, s)
-    # table of ranks would take s^3 words)
-    pair_i, pair_k = np.triu_indices(s, 1)
-    per_pair = s - 1 - pair_k
-    pair_start = np.zeros((s, s), dtype=np.int64)
-    pair_start[pair_i, pair_k] = np.cumsum(per_pair) - per_pair
-    n_tri = int(per_pair.sum())
-    tri_i = np.repeat(pair_i, per_pair).astype(np.int64)
-    tri_k = np.repeat(pair_k, per_pair).astype(np.int64)
-    tri_j = (np.arange(n_tri) - np.repeat(pair_start[pair_i, pair_k], per_pair)
-             + tri_k + 1)
-    plan = []
-    for gap in range(2, s):
-        i = np.arange(s - gap)[:, None]
-        j = i + gap
-        k = i + np.arange(1, gap)[None, :]
-        i, j, k = np.broadcast_arrays(i, j, k)
-        plan.append((i * s + k, k * s + j, pair_start[i, k] + (j - k - 1),
-                     i[:, 0] * s + j[:, 0], i[:, 0][None, :] + 1))
-    for a in (tri_i, tri_k, tri_j, *(x for step in plan for x in step)):
-        a.setflags(write=False)  # shared by every call through the cache
-    return tri_i, tri_k, tri_j, plan
-
-
-_cached_plan = functools.lru_cache(maxsize=PLAN_CACHE_MAX + 1)(_plan)
-
-
-def _triangle_cost(points: np.ndarray, rim: np.ndarray, i: np.ndarray, k: np.ndarray,
-                   j: np.ndarray, scale: np.ndarray, s: int) -> np.ndarray:
-    """Rim angles of cap triangles (j, k, i) on boundary edges, plus a small area term.
-
-    ``i, k, j`` are equal-shaped index arrays; the result has shape ``(L,) + i.shape``.
-    """
-    pi, pk, pj = (np.take(points, x, axis=1) for x in (i, k, j))  # points[:, x]
-    # np.cross bit for bit, on the rows of the candidates
-    cross = cross_rows((pk - pj).reshape(-1, 3), (pi - pj).reshape(-1, 3)).reshape(pk.shape)
-    norm = np.linalg.norm(cross, axis=-1)
-    area_scale = scale.reshape((-1,) + (1,) * i.ndim) ** 2
-    degenerate = norm <= 1e-12 * area_scale
-    cost = AREA_WEIGHT * 0.5 * norm / area_scale
-
-    def add_angle(on: np.ndarray, edge_start: np.ndarray) -> None:
-        """Add the rim angle of the triangles ``on`` (a mask over ``i``'s shape) along
-        the boundary edge starting at ``edge_start``: only the O(s^2) triangles on a
-        boundary edge are evaluated, not all O(s^3) candidates, and their unit normals
-        only (the others would add 0, which changes no bit of the costs)."""
-        unit = cross[:, on] / np.maximum(norm[:, on], 1e-300)[..., None]
-        cos = np.sum(unit * rim[:, edge_start[on]], axis=-1)
-        cost[:, on] += np.where(degenerate[:, on], np.pi,
-                                np.arccos(np.clip(cos, -1.0, 1.0)))
-
-    add_angle(k == i + 1, i)
-    add_angle(j == k + 1, k)
-    closing = (i == 0) & (j == s - 1)  # the polygon's own closing edge (s-1 -> 0)
-    if closing.any():
-        add_angle(closing, np.full_like(j, s - 1))
-    return cost
 
 
 @dataclass(frozen=True, eq=False)

@@ -169,7 +169,11 @@ class RayCounter:
         self.hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
         self._grid_cache: tuple[float, tuple[np.ndarray, ...]] | None = None
 
-    def __call__(self, points: ArrayLike, exact_on_graze: bool = True) -> np.ndarray:
+    def __call__(self, points: ArrayLike, exact_on_graze: bool = True,
+                 only: np.ndarray | None = None) -> np.ndarray:
+        """Winding numbers at ``points`` (p, 3); with ``only`` (p,) bool, at those
+        points only (0 elsewhere), with the values a call on all of them gives: the
+        grazing slack still scales with the extent of all the points."""
         pts_all = np.asarray(points, dtype=np.float64).reshape(-1, 3)
         out = np.zeros(len(pts_all))
         if len(self.faces) == 0 or len(pts_all) == 0:
@@ -179,6 +183,18 @@ class RayCounter:
         scale = float(np.linalg.norm(np.maximum(hi.max(axis=0), pts.max(axis=0))
                                      - np.minimum(lo.min(axis=0), pts.min(axis=0))))
         slack = RAY_RTOL * scale
+        if only is not None:
+            at = np.flatnonzero(only)
+            if len(at):
+                out[at] = self._count(pts[at], pts_all[at], slack, exact_on_graze)
+            return out
+        return self._count(pts, pts_all, slack, exact_on_graze)
+
+    def _count(self, pts: np.ndarray, pts_all: np.ndarray, slack: float,
+               exact_on_graze: bool) -> np.ndarray:
+        """The counts at ``pts`` (in the ray's frame; ``pts_all`` as given)."""
+        out = np.zeros(len(pts))
+        tri = self.tri
         unsure = np.zeros(len(pts), dtype=bool)
         for first, last, pi, ti in self._pairs(pts, slack):
             p = pts[first:last]
@@ -223,15 +239,24 @@ class RayCounter:
                     & (f_hi[..., 0] >= p[..., 0] - slack))
 
         n_all = None
-        if len(pts) > GRID_MIN_POINTS:
+        if len(pts) > GRID_MIN_POINTS and len(pts) * len(lo) > BRUTE_PAIRS:
             cell, start, count, order = self._grid(slack, pts)
             n_all = count[cell]
         if n_all is None or n_all.sum() > GRID_SHARE * len(pts) * len(lo):
-            step = max(1, 8 * CHUNK // len(lo))
+            # only the faces whose boxes the points' box meets (a superset of each point's:
+            # rounding is monotonic)
+            p_lo, p_hi = pts.min(axis=0), pts.max(axis=0)
+            sel = np.flatnonzero((lo[:, 1] <= p_hi[1] + slack) & (hi[:, 1] >= p_lo[1] - slack)
+                                 & (lo[:, 2] <= p_hi[2] + slack) & (hi[:, 2] >= p_lo[2] - slack)
+                                 & (hi[:, 0] >= p_lo[0] - slack))
+            if len(sel) == 0:
+                return
+            s_lo, s_hi = lo[sel], hi[sel]
+            step = max(1, 8 * CHUNK // len(sel))
             for first in range(0, len(pts), step):  # chunks of points, vectorised over faces
                 p = pts[first:first + step]
-                pi, ti = np.nonzero(near(p[:, None], lo[None], hi[None]))
-                yield first, first + len(p), pi, ti
+                pi, ti = np.nonzero(near(p[:, None], s_lo[None], s_hi[None]))
+                yield first, first + len(p), pi, sel[ti]
             return
         bounds = np.concatenate([[0], np.cumsum(n_all)])
         first = 0
@@ -293,6 +318,8 @@ class RayCounter:
 
 #: Fewest points for which the grid is built (fewer are tested against every face).
 GRID_MIN_POINTS = 64
+#: Point-face pairs below which every face is tested, without building the grid.
+BRUTE_PAIRS = 200_000
 #: Most grid cells per axis across the ray (:class:`RayCounter`).
 GRID_MAX = 512
 #: Share of all point-face pairs beyond which the grid's candidates are not worth
