@@ -179,7 +179,7 @@ class RayCounter:
         if len(self.faces) == 0 or len(pts_all) == 0:
             return out
         pts = pts_all @ _RAY_FRAME.T
-        lo, hi, tri = self.lo, self.hi, self.tri
+        lo, hi = self.lo, self.hi
         scale = float(np.linalg.norm(np.maximum(hi.max(axis=0), pts.max(axis=0))
                                      - np.minimum(lo.min(axis=0), pts.min(axis=0))))
         slack = RAY_RTOL * scale
