@@ -39,7 +39,7 @@ from urdfinertia.inertia.polyhedron import cross_rows, face_volumes
 from urdfinertia.mesh.repair.graph import EdgeTable, boundary_edges, sort_order
 from urdfinertia.mesh.repair.level_caps import level_caps, level_caps_points
 from urdfinertia.mesh.repair.loops import boundary_cycles, ordered_cycles
-from urdfinertia.mesh.repair.triangulation import best_triangulations
+from urdfinertia.mesh.repair.triangulation import best_triangulations, size_bands
 from urdfinertia.mesh.repair.winding import RayCounter, winding_numbers
 from urdfinertia.timing import Deadline
 
@@ -357,12 +357,11 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
     """Best triangulation of each loop of 4..TRIANGULATE_MAX edges, the loops of more
     than ``SHORT_LOOP_MAX`` edges smallest first within ``WIDE_TRIANGULATION_BUDGET``.
 
-    Returns the cap faces and the loop of each. Loops of equal size are solved together
-    (:func:`~.triangulation.best_triangulations`: one step per interval width, vectorised
-    over intervals, splits and loops).
+    Returns the cap faces and the loop of each. Loops of similar sizes are solved
+    together (:func:`~.triangulation.best_triangulations`: one step per interval width,
+    vectorised over intervals, splits and loops; :func:`~.triangulation.size_bands`).
     """
-    faces_out: list[np.ndarray] = []
-    loops_out: list[np.ndarray] = []
+    groups: list[tuple[np.ndarray, np.ndarray]] = []  # (loop ids, rows of their edges)
     budget = WIDE_TRIANGULATION_BUDGET
     for ids, order in ordered_cycles(succ, loop, TRIANGULATE_MAX):  # by size, ascending
         s = order.shape[1]
@@ -374,12 +373,21 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
                 break
             ids, order = ids[:afford], order[:afford]
             budget -= afford * s ** 3 / 6
+        groups.append((ids, order))
+    faces_out: list[np.ndarray] = []
+    loops_out: list[np.ndarray] = []
+    for band in size_bands([g[1].shape[1] for g in groups], [len(g[0]) for g in groups]):
         deadline.check()
+        part = [groups[g] for g in band]
+        s = part[-1][1].shape[1]
+        # the band's loops padded to its largest (the padding repeats a loop's first row)
+        order = np.concatenate([np.pad(o, ((0, 0), (0, s - o.shape[1])), mode="edge")
+                                for _, o in part])
+        sizes = np.concatenate([np.full(len(i), o.shape[1]) for i, o in part])
         corners = edges[order, 0]  # (L, s) vertex indices in boundary order
-        tris = best_triangulations(vertices[corners], rim_normal[order])
-        faces_out.append(np.take_along_axis(corners[:, None, :].repeat(s - 2, axis=1),
-                                            tris, axis=2).reshape(-1, 3))
-        loops_out.append(np.repeat(ids, s - 2))
+        tris, poly = best_triangulations(vertices[corners], rim_normal[order], sizes)
+        faces_out.append(corners[poly[:, None], tris])
+        loops_out.append(np.concatenate([i for i, _ in part])[poly])
     if not faces_out:
         return np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
     return np.concatenate(faces_out), np.concatenate(loops_out)
