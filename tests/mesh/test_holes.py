@@ -224,3 +224,65 @@ def test_long_loop_triangulation_refuted_by_winding_numbers(erd_dir, rel) -> Non
     volume = sum(s.volume for s in integrate_repaired(repair_mesh(mesh)).solids)
     hull = ConvexHull(np.asarray(mesh.vertices)[np.unique(mesh.faces)]).volume
     assert volume < 0.8 * hull, (volume, hull)
+
+
+def full_count_refutes(vertices, faces, fan_f, fan_loop, tri_f, tri_loop, loops):
+    """The winding-number vote counting rays at every grid point (the plain form of
+    ``holes._winding_refutes``, which counts them only where the caps disagree)."""
+    from urdfinertia.mesh.repair import holes
+    from urdfinertia.mesh.repair.winding import RayCounter
+
+    closed = np.concatenate([faces, fan_f])
+    frac = (np.arange(holes.VOTE_GRID) + 0.5) / holes.VOTE_GRID
+    counter = RayCounter(vertices, closed)
+    refuted = []
+    for k in loops.tolist():
+        fan_tri = vertices[fan_f[fan_loop == k]].reshape(-1, 3)
+        tri_tri = vertices[tri_f[tri_loop == k]].reshape(-1, 3)
+        lo, hi = tri_tri.min(axis=0), tri_tri.max(axis=0)
+        grid = np.stack(np.meshgrid(*(lo[i] + frac * (hi[i] - lo[i]) for i in range(3)),
+                                    indexing="ij"), axis=-1).reshape(-1, 3)
+        w_fanned = counter(grid, exact_on_graze=False)
+        w_open = w_fanned - winding_numbers(grid, fan_tri, np.arange(len(fan_tri)).reshape(-1, 3))
+        w_tri = w_open + winding_numbers(grid, tri_tri, np.arange(len(tri_tri)).reshape(-1, 3))
+        in_fan, in_tri = w_fanned > 0.5, w_tri > 0.5
+        disputed = in_fan != in_tri
+        if np.count_nonzero(disputed) < holes.VOTE_MIN:
+            continue
+        with_tri = np.count_nonzero((w_open[disputed] > 0.5) == in_tri[disputed])
+        if 2 * with_tri < np.count_nonzero(disputed):
+            refuted.append(k)
+    return refuted
+
+
+@pytest.mark.parametrize("rel", [
+    "icub_description/meshes/upmc/collision/icub_simple_collision_lap_belt_1.dae",
+    "icub_description/meshes/upmc/collision/icub_simple_collision_chest.dae",
+    None,  # a sphere with wavy cuts
+])
+def test_vote_counting_rays_where_caps_disagree_decides_as_counting_all(
+        erd_dir, rel, monkeypatch) -> None:
+    from urdfinertia.mesh.repair import holes
+
+    votes = []
+    vote = holes._winding_refutes
+
+    def spy(*args):
+        votes.append((args[:-1], vote(*args)))
+        return votes[-1][1]
+
+    monkeypatch.setattr(holes, "_winding_refutes", spy)
+    if rel is None:
+        sphere = trimesh.creation.icosphere(subdivisions=4)
+        v, f = np.asarray(sphere.vertices), np.asarray(sphere.faces)
+        c = v[f].mean(axis=1)
+        f = f[~((c[:, 2] + 0.15 * np.sin(7 * c[:, 0]) > 0.4) | (c[:, 0] < -0.6))]
+        close_holes(v, f)
+    else:
+        from urdfinertia.mesh.read.load import load_mesh
+        from urdfinertia.mesh.repair.pipeline import repair_mesh
+
+        repair_mesh(load_mesh(erd_dir / "robots" / rel))
+    assert votes and all(len(args[-1]) for args, _ in votes)  # long loops were voted on
+    for args, refuted in votes:
+        assert refuted.tolist() == full_count_refutes(*args)

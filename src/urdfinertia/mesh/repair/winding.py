@@ -172,8 +172,9 @@ class RayCounter:
     def __call__(self, points: ArrayLike, exact_on_graze: bool = True,
                  only: np.ndarray | None = None) -> np.ndarray:
         """Winding numbers at ``points`` (p, 3); with ``only`` (p,) bool, at those
-        points only (0 elsewhere), with the values a call on all of them gives: the
-        grazing slack still scales with the extent of all the points."""
+        points only (0 elsewhere), with the counts a call on all of them gives (the
+        grazing slack still scales with the extent of all the points; the values of
+        grazing points handed to :func:`winding_numbers` agree to round-off)."""
         pts_all = np.asarray(points, dtype=np.float64).reshape(-1, 3)
         out = np.zeros(len(pts_all))
         if len(self.faces) == 0 or len(pts_all) == 0:
