@@ -305,12 +305,16 @@ class RayCounter:
             if side == 1 or copies.sum() <= GRID_COPIES * len(lo):
                 break
             side = max(1, side // 2)
-        face = np.repeat(np.arange(len(lo)), copies)
-        k = np.arange(len(face)) - np.repeat(np.cumsum(copies) - copies, copies)
+        # 32-bit indices where they fit: the listing is the grid's largest part, and kept
+        index = np.int32 if max(int(copies.sum()), side * side) < 2 ** 31 else np.int64
+        face = np.repeat(np.arange(len(lo), dtype=index), copies)
+        k = np.arange(len(face), dtype=index) - np.repeat(
+            (np.cumsum(copies) - copies).astype(index), copies)
+        a, span = a.astype(index), span.astype(index)
         sy = span[face, 0]
         cy = a[face, 0] + k % sy
         cz = a[face, 1] + k // sy
-        key = cy * side + cz
+        key = cy * index(side) + cz
         order = face[sort_order(key)]
         count = np.bincount(key, minlength=side * side)
         start = np.cumsum(count) - count
