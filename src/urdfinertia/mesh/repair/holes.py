@@ -380,7 +380,7 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
         deadline.check()
         part = [groups[g] for g in band]
         s = part[-1][1].shape[1]
-        # the band's loops padded to its largest (the padding repeats a loop's first row)
+        # the band's loops padded to its largest (the padding repeats a loop's last corner)
         order = np.concatenate([np.pad(o, ((0, 0), (0, s - o.shape[1])), mode="edge")
                                 for _, o in part])
         sizes = np.concatenate([np.full(len(i), o.shape[1]) for i, o in part])
