@@ -147,9 +147,10 @@ def _choices(points: np.ndarray, rim: np.ndarray, sizes: np.ndarray) -> np.ndarr
         c = np.add(ik, kj, out=cross[0])  # (cost(i, k) + cost(k, j)) + triangle
         c += cost_tri
         ij = np.arange(n_int) * (s + 1) + gap
-        # the smallest cost is the chosen split's (no -0.0 arises; NaN wins in both)
-        cost[:, ij] = c.min(axis=2)
-        choice[:, ij] = np.arange(1, n_int + 1) + c.argmin(axis=2)
+        best = c.argmin(axis=2)  # the first smallest, or the first NaN
+        rows = c.reshape(-1, n_split)
+        cost[:, ij] = rows[np.arange(len(rows)), best.reshape(-1)].reshape(best.shape)
+        choice[:, ij] = np.arange(1, n_int + 1) + best
     return choice.reshape(n_poly, s, s)
 
 

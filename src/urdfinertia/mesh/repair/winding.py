@@ -167,6 +167,7 @@ class RayCounter:
         # elementwise over the corners: numpy's reduction along a length-3 axis is slow
         self.lo = np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2])
         self.hi = np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2])
+        self._box = (self.lo.min(axis=0), self.hi.max(axis=0))  # every call's slack uses it
         self._grid_cache: tuple[float, tuple[np.ndarray, ...]] | None = None
 
     def __call__(self, points: ArrayLike, exact_on_graze: bool = True,
@@ -180,9 +181,9 @@ class RayCounter:
         if len(self.faces) == 0 or len(pts_all) == 0:
             return out
         pts = pts_all @ _RAY_FRAME.T
-        lo, hi = self.lo, self.hi
-        scale = float(np.linalg.norm(np.maximum(hi.max(axis=0), pts.max(axis=0))
-                                     - np.minimum(lo.min(axis=0), pts.min(axis=0))))
+        box_lo, box_hi = self._box
+        scale = float(np.linalg.norm(np.maximum(box_hi, pts.max(axis=0))
+                                     - np.minimum(box_lo, pts.min(axis=0))))
         slack = RAY_RTOL * scale
         if only is not None:
             at = np.flatnonzero(only)
