@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import ast
 import concurrent.futures as cf
 import contextlib
+import os
 from pathlib import Path
 
 import pytest
@@ -526,3 +528,32 @@ def test_mesh_needs_lists_every_mesh_of_a_checked_link_for_points(checked_tree):
     solids, points = batch.mesh_needs(checked_tree / "one.urdf", FixOptions())
     assert [p.name for p in solids] == ["box.stl"]
     assert sorted(p.name for p in points) == ["box.stl", "shell.stl"]
+
+
+def test_a_warm_fix_imports_no_numerical_or_xacro_library(tree, tmp_path):
+    """A warm ``fix DIR -o OUT`` (every file from the cache, mesh references relocated to
+    the output folder) runs in a fresh interpreter without numpy, lxml or xacro support;
+    the cold run before it needs them all, which shows the check can fail."""
+    import subprocess
+    import sys
+
+    heavy = ("numpy", "lxml", "scipy", "trimesh", "xacro", "xml.dom",
+             "urdfinertia.descriptions.xacro.expand")
+    code = ("import sys\n"
+            "from urdfinertia.cli import main\n"
+            "code = main(sys.argv[1:])\n"
+            f"heavy = {heavy!r}\n"
+            "print(sorted(m for m in sys.modules if m in heavy))\n"
+            "sys.exit(code)\n")
+    env = {**os.environ, "URDFINERTIA_CACHE_DIR": str(tmp_path / "cache")}
+
+    def run(out: str) -> list[str]:
+        proc = subprocess.run([sys.executable, "-c", code, "fix", str(tree), "-o",
+                               str(tmp_path / out), "--all", "-q"],
+                              capture_output=True, text=True, env=env, check=False)
+        assert proc.returncode == 0, proc.stderr
+        return ast.literal_eval(proc.stdout.strip().splitlines()[-1])
+
+    assert {"numpy", "lxml"} <= set(run("cold"))
+    assert run("warm") == []
+    assert outputs(tmp_path / "warm") == outputs(tmp_path / "cold")
