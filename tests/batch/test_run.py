@@ -557,3 +557,51 @@ def test_a_warm_fix_imports_no_numerical_or_xacro_library(tree, tmp_path):
     assert {"numpy", "lxml"} <= set(run("cold"))
     assert run("warm") == []
     assert outputs(tmp_path / "warm") == outputs(tmp_path / "cold")
+
+
+@pytest.mark.parametrize("cache", [True, False])
+def test_outputs_holding_the_bytes_are_left_untouched(tree, tmp_path, cache):
+    settings = BatchSettings(cache_dir=tmp_path / "c", use_cache=cache)
+    out = tmp_path / "out"
+    first = run_batch(collect_jobs([tree], out), STRICT_ALL, settings)
+    assert first.untouched == 0 and first.up_to_date == (False,) * 3
+    before = {p: p.stat() for p in out.rglob("*.urdf")}
+    for p in before:
+        os.utime(p, ns=(1_000_000_000, 1_000_000_000))
+    stale = out / "pkg_b" / "robot_c.urdf"
+    stale.write_bytes(stale.read_bytes() + b"\n")  # an output edited since: rewritten
+    before = {p: p.stat() for p in out.rglob("*.urdf")}
+    second = run_batch(collect_jobs([tree], out), STRICT_ALL, settings)
+    assert second.file_hits == (3 if cache else 0)
+    assert [o.source.name for o in second.outcomes] == [
+        "robot_a.urdf", "robot_b.urdf", "robot_c.urdf"]
+    assert second.up_to_date == (True, True, False) and second.untouched == 2
+    after = {p: p.stat() for p in out.rglob("*.urdf")}
+    for p, st in before.items():
+        kept = (after[p].st_ino, after[p].st_mtime_ns) == (st.st_ino, st.st_mtime_ns)
+        assert kept == (p != stale), p
+    assert outputs(out) == outputs(_fresh(tree, tmp_path))
+
+
+def _fresh(tree: Path, tmp_path: Path) -> Path:
+    out = tmp_path / "fresh"
+    run_batch(collect_jobs([tree], out), STRICT_ALL, BatchSettings(use_cache=False))
+    return out
+
+
+def test_cli_says_which_outputs_were_left_untouched(tree, tmp_path, capsys, monkeypatch):
+    import json
+
+    monkeypatch.setenv("COLUMNS", "400")  # the table's cells unfolded
+    argv = ["fix", "--all", str(tree), "-o", str(tmp_path / "out"), "--cache-dir",
+            str(tmp_path / "c"), "--json", str(tmp_path / "r.json")]
+    assert main(argv) == 0
+    assert "already held these bytes" not in capsys.readouterr().err
+    assert not any(f["output_up_to_date"]
+                   for f in json.loads((tmp_path / "r.json").read_text())["files"])
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "3 of them already held these bytes and were left untouched" in err
+    assert err.count("up to date, untouched") == 3
+    assert all(f["output_up_to_date"]
+               for f in json.loads((tmp_path / "r.json").read_text())["files"])
