@@ -605,3 +605,20 @@ def test_cli_says_which_outputs_were_left_untouched(tree, tmp_path, capsys, monk
     assert err.count("up to date, untouched") == 3
     assert all(f["output_up_to_date"]
                for f in json.loads((tmp_path / "r.json").read_text())["files"])
+
+
+@pytest.mark.parametrize(("deps", "ok"), [
+    ([["uri", "folder", "path", "key"]] * 3, True),
+    ([], True),
+    ([["uri", "folder", "path", 1]], False),
+    ([["uri", "folder", "path"]], False),
+    ([["uri", "folder", "path", "key"], "uri"], False),
+    ({"uri": "folder"}, False),
+    (None, False),
+])
+def test_a_whole_file_entry_needs_its_meshes_as_rows_of_four_strings(deps, ok):
+    from urdfinertia.batch import file_cache
+
+    result = file_cache.CachedResult("r", 1, 1, (), b"<robot/>")
+    data = file_cache.encode("k", deps, result)
+    assert (file_cache.decode(data, "k") is not None) == ok

@@ -362,27 +362,27 @@ def _run_batch(jobs: Sequence[FileJob], options: FixOptions, settings: BatchSett
     results = (FileResults(cache, options) if cache is not None and not settings.details
                else None)
     todo = list(range(total))
-    hits: list[tuple[int, FileOutcome]] = []
     if results is not None:
         todo = []
-        for i, job in enumerate(jobs):
-            with times.stage("cache"):
-                hit = results.lookup(job.source)
-            if hit is None:
-                todo.append(i)
-            else:
-                hits.append((i, _from_cache(job.source, *hit)))
-    if hits:
-        # the files from the cache are written first, a few at once (each write waits for
-        # its fsync), and the threads are gone before any worker process is forked
-        with times.stage("write"), cf.ThreadPoolExecutor(
-                WRITER_THREADS, thread_name_prefix="urdfinertia-write") as pool:
-            written = pool.map(lambda hit: _write(jobs[hit[0]], hit[1], settings, writer),
-                               hits)
-            for (i, _), (outcome, up_to_date[i]) in zip(hits, written, strict=True):
-                outcomes[i] = outcome
-                done += 1
-                hook("files", done, total)
+        # a file from the cache is written while the next ones are looked up, a few at
+        # once (each write waits for its fsync); the threads are gone before any worker
+        # process is forked, and a run without hits starts none
+        with cf.ThreadPoolExecutor(WRITER_THREADS,
+                                   thread_name_prefix="urdfinertia-write") as pool:
+            writes: list[tuple[int, cf.Future[tuple[FileOutcome, bool]]]] = []
+            for i, job in enumerate(jobs):
+                with times.stage("cache"):
+                    hit = results.lookup(job.source)
+                if hit is None:
+                    todo.append(i)
+                else:
+                    writes.append((i, pool.submit(_write, job, _from_cache(job.source, *hit),
+                                                  settings, writer)))
+            with times.stage("write"):
+                for i, fut in writes:
+                    outcomes[i], up_to_date[i] = fut.result()
+                    done += 1
+                    hook("files", done, total)
     if todo:
 
         def finish_fresh(i: int, outcome: FileOutcome) -> None:
