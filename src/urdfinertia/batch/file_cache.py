@@ -27,6 +27,7 @@ import itertools
 import json
 import os
 from pathlib import Path
+from typing import TypeGuard
 
 from urdfinertia.cache.store import SolidsCache, key_from_digest
 from urdfinertia.cache.version import code_digest
@@ -246,7 +247,7 @@ class FileResults:
         self.cache.write(self.path(key), encode(key, deps, result, str(source)))
 
 
-def _string_rows(rows: object, width: int) -> bool:
+def _string_rows(rows: object, width: int) -> TypeGuard[list[list[str]]]:
     """``rows`` is a list of lists of ``width`` strings each (a JSON value: its types are
     exactly ``list`` and ``str``, so ``type(...) is`` suffices). One pass over the strings
     by ``map``, not a generator per row: a warm run checks some 20,000 of them."""

@@ -127,6 +127,8 @@ class _Run:
         self.meshes: dict[Path, MeshSolids | Exception] = {}
         #: hull points of the meshes the geometry checks read (:meth:`MeshLibrary.points`)
         self.points: dict[Path, np.ndarray] = {}
+        #: the header of each "points" entry (with the hull's volume), for the library
+        self.point_headers: dict[Path, dict] = {}
         self.keys: dict[Path, str] = {}
         self.futures: dict[cf.Future, tuple[str, object]] = {}
         #: per file, what it waits for: ("solids" or "points", mesh path)
@@ -179,6 +181,7 @@ class _Run:
         if found is None or isinstance(found, MeshError) or len(found[1]) % 3:
             return False  # a refusal is the reader's to repeat, in context
         self.points[path] = found[1].reshape(-1, 3)
+        self.point_headers[path] = found[0]
         return True
 
     def store(self, path: Path, outcome: MeshSolids | Exception | None, faces: int,
@@ -188,9 +191,12 @@ class _Run:
         if points is not None and path not in self.points:
             self.points[path] = points
             if self.cache is not None:
+                from urdfinertia.cache.library import points_header
+
+                header = self.point_headers[path] = points_header(points)
                 with self.times.stage("cache"):
-                    self.cache.store_arrays(self.keys.get(path), "points", {"faces": faces},
-                                            points)
+                    self.cache.store_arrays(self.keys.get(path), "points",
+                                            {**header, "faces": faces}, points)
         if outcome is not None and self.cache is not None:
             with self.times.stage("cache"):
                 self.cache.store_mesh(self.keys.get(path), path, outcome, faces)
@@ -325,7 +331,7 @@ def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: Batch
     for path, outcome in run.meshes.items():
         library.seed(path, outcome)
     for path, points in run.points.items():
-        library.seed_points(path, points)
+        library.seed_points(path, points, run.point_headers.get(path))
     library.timer.merge(run.times)
     return library
 
@@ -452,7 +458,7 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
             for path, outcome in run.meshes.items():
                 library.seed(path, outcome)
             for path, points in run.points.items():
-                library.seed_points(path, points)
+                library.seed_points(path, points, run.point_headers.get(path))
             times.merge(run.times)  # the look-ups above; each file brings its own times
             for i in todo:
                 finish(i, fix_with_library(jobs[i].source, options, library,
