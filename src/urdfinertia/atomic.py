@@ -21,6 +21,8 @@ from pathlib import Path
 from urdfinertia.errors import OutputError
 
 _UMASK_LOCK = threading.Lock()
+#: Folders :meth:`OutputWriter.close` fsyncs at once.
+SYNC_THREADS = 8
 
 
 def replace_file(target: Path, data: bytes, *, durable: bool = True,
@@ -122,11 +124,19 @@ class OutputWriter:
         return Written(target, False)
 
     def close(self) -> None:
-        """Make every rename durable: fsync each folder written to, once."""
+        """Make every rename durable: fsync each folder written to, once (a few at once:
+        each waits for the file system's journal, and waits that overlap are shared)."""
         with self._lock:
             folders, self._folders = list(self._folders), {}
-        for folder in folders:
-            _fsync_folder(folder)
+        if len(folders) <= 1:
+            for folder in folders:
+                _fsync_folder(folder)
+            return
+        import concurrent.futures as cf
+
+        with cf.ThreadPoolExecutor(min(len(folders), SYNC_THREADS),
+                                   thread_name_prefix="urdfinertia-sync") as pool:
+            list(pool.map(_fsync_folder, folders))
 
     def __enter__(self) -> OutputWriter:
         return self

@@ -116,14 +116,13 @@ def decode(data: bytes, key: str, source: str = "",
     robot, links, recomputed = header.get("robot"), header.get("links"), header.get("recomputed")
     warnings = header.get("warnings")
     if not (isinstance(robot, str) and isinstance(links, int) and isinstance(recomputed, int)
-            and isinstance(warnings, list) and all(isinstance(w, str) for w in warnings)):
+            and _strings(warnings)):
         return None
     failed = header.get("error")
     if not isinstance(failed, bool):
         return None
     left, problems = header.get("left"), header.get("problems")
-    if not (isinstance(left, list) and all(isinstance(x, str) for x in left)
-            and isinstance(problems, list) and all(isinstance(x, str) for x in problems)):
+    if not (_strings(left) and _strings(problems)):
         return None
     if failed and header.get("source") != source:
         return None  # an error quoting the source as spelled otherwise
@@ -245,6 +244,11 @@ class FileResults:
                 return
             deps.append([uri, folder, path, mesh_key])
         self.cache.write(self.path(key), encode(key, deps, result, str(source)))
+
+
+def _strings(items: object) -> TypeGuard[list[str]]:
+    """``items`` is a list of strings (a JSON value: see :func:`_string_rows`)."""
+    return type(items) is list and set(map(type, items)) <= {str}
 
 
 def _string_rows(rows: object, width: int) -> TypeGuard[list[list[str]]]:
