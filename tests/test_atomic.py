@@ -150,3 +150,87 @@ def test_in_place_write_failure_keeps_original_and_backup(tmp_path, monkeypatch)
     assert target.read_bytes() == b"original"
     assert (tmp_path / "r.urdf.bak").read_bytes() == b"original"
     assert listing(tmp_path) == ["r.urdf", "r.urdf.bak"]
+
+
+def test_writer_leaves_a_file_holding_the_bytes_untouched(tmp_path):
+    target = tmp_path / "out.urdf"
+    target.write_bytes(b"same")
+    os.utime(target, ns=(1_000_000_000, 1_000_000_000))
+    before = target.stat()
+    with atomic.OutputWriter() as writer:
+        written = writer.write(target, b"same")
+    after = target.stat()
+    assert written == atomic.Written(target, True) and writer.untouched == 1
+    assert (after.st_ino, after.st_mtime_ns) == (before.st_ino, before.st_mtime_ns)
+
+
+@pytest.mark.parametrize("old", [b"other", b"sam", b"same plus more", None])
+def test_writer_replaces_other_bytes_atomically(tmp_path, old):
+    target = tmp_path / "out.urdf"
+    if old is not None:
+        target.write_bytes(old)
+        target.chmod(0o604)
+    inode = target.stat().st_ino if old is not None else None
+    with atomic.OutputWriter() as writer:
+        written = writer.write(target, b"same")
+    assert written == atomic.Written(target, False) and writer.untouched == 0
+    assert target.read_bytes() == b"same"
+    assert listing(tmp_path) == ["out.urdf"]
+    if old is not None:  # a new file renamed over the old one, its mode kept
+        assert target.stat().st_ino != inode
+        assert stat.S_IMODE(target.stat().st_mode) == 0o604
+
+
+def test_writer_syncs_each_folder_once_after_its_files(tmp_path, monkeypatch):
+    synced: list = []
+    monkeypatch.setattr(atomic, "_fsync_folder", synced.append)
+    files: list = []
+    real_fsync = os.fsync
+    monkeypatch.setattr(atomic.os, "fsync", lambda fd: (files.append(fd), real_fsync(fd)))
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    writer = atomic.OutputWriter()
+    for name in ("a/1.urdf", "a/2.urdf", "b/3.urdf"):
+        writer.write(tmp_path / name, name.encode())
+    assert synced == [] and len(files) == 3  # each file's data, no folder yet
+    writer.close()
+    assert sorted(synced) == [tmp_path / "a", tmp_path / "b"]
+    writer.close()
+    assert len(synced) == 2  # nothing new to sync
+
+
+def test_writer_failure_is_an_output_error_and_leaves_the_old_file(tmp_path, monkeypatch):
+    target = tmp_path / "out.urdf"
+    target.write_bytes(b"old")
+
+    def fail(*args):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(atomic.os, "replace", fail)
+    with pytest.raises(OutputError, match="No space left"), atomic.OutputWriter() as writer:
+        writer.write(target, b"new")
+    assert target.read_bytes() == b"old"
+    assert listing(tmp_path) == ["out.urdf"]
+
+
+def test_writer_follows_a_symlink(tmp_path):
+    real = tmp_path / "real.urdf"
+    real.write_bytes(b"old")
+    link = tmp_path / "link.urdf"
+    link.symlink_to(real)
+    with atomic.OutputWriter() as writer:
+        assert writer.write(link, b"new") == atomic.Written(real, False)
+        assert writer.write(link, b"new") == atomic.Written(real, True)
+    assert link.is_symlink() and real.read_bytes() == b"new"
+
+
+def test_writer_is_safe_from_many_threads(tmp_path):
+    import concurrent.futures as cf
+
+    names = [f"{i}.urdf" for i in range(40)]
+    (tmp_path / "2.urdf").write_bytes(b"2.urdf")  # already holds its bytes
+    with atomic.OutputWriter() as writer, cf.ThreadPoolExecutor(8) as pool:
+        results = list(pool.map(lambda n: writer.write(tmp_path / n, n.encode()), names))
+    assert sum(r.untouched for r in results) == writer.untouched == 1
+    assert all((tmp_path / n).read_bytes() == n.encode() for n in names)
+    assert listing(tmp_path) == sorted(names)

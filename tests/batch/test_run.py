@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import ast
 import concurrent.futures as cf
 import contextlib
+import os
 from pathlib import Path
 
 import pytest
@@ -526,3 +528,97 @@ def test_mesh_needs_lists_every_mesh_of_a_checked_link_for_points(checked_tree):
     solids, points = batch.mesh_needs(checked_tree / "one.urdf", FixOptions())
     assert [p.name for p in solids] == ["box.stl"]
     assert sorted(p.name for p in points) == ["box.stl", "shell.stl"]
+
+
+def test_a_warm_fix_imports_no_numerical_or_xacro_library(tree, tmp_path):
+    """A warm ``fix DIR -o OUT`` (every file from the cache, mesh references relocated to
+    the output folder) runs in a fresh interpreter without numpy, lxml or xacro support;
+    the cold run before it needs them all, which shows the check can fail."""
+    import subprocess
+    import sys
+
+    heavy = ("numpy", "lxml", "scipy", "trimesh", "xacro", "xml.dom",
+             "urdfinertia.descriptions.xacro.expand")
+    code = ("import sys\n"
+            "from urdfinertia.cli import main\n"
+            "code = main(sys.argv[1:])\n"
+            f"heavy = {heavy!r}\n"
+            "print(sorted(m for m in sys.modules if m in heavy))\n"
+            "sys.exit(code)\n")
+    env = {**os.environ, "URDFINERTIA_CACHE_DIR": str(tmp_path / "cache")}
+
+    def run(out: str) -> list[str]:
+        proc = subprocess.run([sys.executable, "-c", code, "fix", str(tree), "-o",
+                               str(tmp_path / out), "--all", "-q"],
+                              capture_output=True, text=True, env=env, check=False)
+        assert proc.returncode == 0, proc.stderr
+        return ast.literal_eval(proc.stdout.strip().splitlines()[-1])
+
+    assert {"numpy", "lxml"} <= set(run("cold"))
+    assert run("warm") == []
+    assert outputs(tmp_path / "warm") == outputs(tmp_path / "cold")
+
+
+@pytest.mark.parametrize("cache", [True, False])
+def test_outputs_holding_the_bytes_are_left_untouched(tree, tmp_path, cache):
+    settings = BatchSettings(cache_dir=tmp_path / "c", use_cache=cache)
+    out = tmp_path / "out"
+    first = run_batch(collect_jobs([tree], out), STRICT_ALL, settings)
+    assert first.untouched == 0 and first.up_to_date == (False,) * 3
+    before = {p: p.stat() for p in out.rglob("*.urdf")}
+    for p in before:
+        os.utime(p, ns=(1_000_000_000, 1_000_000_000))
+    stale = out / "pkg_b" / "robot_c.urdf"
+    stale.write_bytes(stale.read_bytes() + b"\n")  # an output edited since: rewritten
+    before = {p: p.stat() for p in out.rglob("*.urdf")}
+    second = run_batch(collect_jobs([tree], out), STRICT_ALL, settings)
+    assert second.file_hits == (3 if cache else 0)
+    assert [o.source.name for o in second.outcomes] == [
+        "robot_a.urdf", "robot_b.urdf", "robot_c.urdf"]
+    assert second.up_to_date == (True, True, False) and second.untouched == 2
+    after = {p: p.stat() for p in out.rglob("*.urdf")}
+    for p, st in before.items():
+        kept = (after[p].st_ino, after[p].st_mtime_ns) == (st.st_ino, st.st_mtime_ns)
+        assert kept == (p != stale), p
+    assert outputs(out) == outputs(_fresh(tree, tmp_path))
+
+
+def _fresh(tree: Path, tmp_path: Path) -> Path:
+    out = tmp_path / "fresh"
+    run_batch(collect_jobs([tree], out), STRICT_ALL, BatchSettings(use_cache=False))
+    return out
+
+
+def test_cli_says_which_outputs_were_left_untouched(tree, tmp_path, capsys, monkeypatch):
+    import json
+
+    monkeypatch.setenv("COLUMNS", "400")  # the table's cells unfolded
+    argv = ["fix", "--all", str(tree), "-o", str(tmp_path / "out"), "--cache-dir",
+            str(tmp_path / "c"), "--json", str(tmp_path / "r.json")]
+    assert main(argv) == 0
+    assert "already held these bytes" not in capsys.readouterr().err
+    assert not any(f["output_up_to_date"]
+                   for f in json.loads((tmp_path / "r.json").read_text())["files"])
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "3 of them already held these bytes and were left untouched" in err
+    assert err.count("up to date, untouched") == 3
+    assert all(f["output_up_to_date"]
+               for f in json.loads((tmp_path / "r.json").read_text())["files"])
+
+
+@pytest.mark.parametrize(("deps", "ok"), [
+    ([["uri", "folder", "path", "key"]] * 3, True),
+    ([], True),
+    ([["uri", "folder", "path", 1]], False),
+    ([["uri", "folder", "path"]], False),
+    ([["uri", "folder", "path", "key"], "uri"], False),
+    ({"uri": "folder"}, False),
+    (None, False),
+])
+def test_a_whole_file_entry_needs_its_meshes_as_rows_of_four_strings(deps, ok):
+    from urdfinertia.batch import file_cache
+
+    result = file_cache.CachedResult("r", 1, 1, (), b"<robot/>")
+    data = file_cache.encode("k", deps, result)
+    assert (file_cache.decode(data, "k") is not None) == ok

@@ -256,10 +256,48 @@ def test_hull_volume_is_the_scaled_hulls_and_computed_once(box_stl, monkeypatch)
     monkeypatch.setattr(spatial, "ConvexHull", counting)
     lib = MeshLibrary()
     box = trimesh.load(box_stl, force="mesh")
-    for scale in [(1.0, 1.0, 1.0), (2.0, 1.0, 0.5), (1.0, 1.0, 1.0), (2.0, 1.0, 0.5)]:
+    for scale in [(1.0, 1.0, 1.0), (2.0, 1.0, 0.5), (1.0, 1.0, 1.0), (2.0, -1.0, 0.5)]:
         assert lib.hull_volume(box_stl, scale) == pytest.approx(
             box.convex_hull.volume * abs(np.prod(scale)), rel=1e-12)
-    assert len(calls) == 2  # one per distinct scale
+    assert len(calls) == 1  # one hull per mesh: a scale multiplies its volume
+
+
+def test_the_hull_volume_is_cached_with_the_points(sphere_stl, tmp_path, monkeypatch, rng):
+    """A warm library takes the hull's volume from the points' cache entry: no Qhull. Per
+    scale it equals the hull of the scaled points up to round-off (the map is linear)."""
+    from scipy import spatial
+
+    scales = [(1.0, 1.0, 1.0), (0.001, 0.001, 0.001), (2.0, -1.0, 0.5),
+              *(tuple(x) for x in rng.uniform(-3, 3, size=(5, 3)))]
+    cold = MeshLibrary(cache=SolidsCache(tmp_path / "c"))
+    volumes = [cold.hull_volume(sphere_stl, s) for s in scales]
+    points = cold.points(sphere_stl)
+    for scale, volume in zip(scales, volumes, strict=True):
+        direct = spatial.ConvexHull(points * np.asarray(scale)).volume
+        assert volume == pytest.approx(direct, rel=1e-13)
+
+    def no_qhull(*args, **kwargs):
+        raise AssertionError("Qhull ran on a warm library")
+
+    monkeypatch.setattr(spatial, "ConvexHull", no_qhull)
+    warm = MeshLibrary(cache=SolidsCache(tmp_path / "c"))
+    assert [warm.hull_volume(sphere_stl, s) for s in scales] == volumes
+    seeded = MeshLibrary()
+    header, _ = SolidsCache(tmp_path / "c").lookup_arrays(sphere_stl, seeded.max_faces,
+                                                          "points")[1]
+    seeded.seed_points(sphere_stl, points, header)
+    assert seeded.hull_volume(sphere_stl, scales[2]) == volumes[2]
+
+
+def test_flat_points_have_no_hull_volume(tmp_path):
+    flat = tmp_path / "flat.stl"
+    trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]],
+                    [[0, 1, 2], [1, 3, 2]]).export(flat)
+    lib = MeshLibrary(cache=SolidsCache(tmp_path / "c"))
+    with pytest.raises(ValueError, match="no volume"):
+        lib.hull_volume(flat)
+    with pytest.raises(ValueError, match="no volume"):  # from the cache alike
+        MeshLibrary(cache=SolidsCache(tmp_path / "c")).hull_volume(flat)
 
 
 def test_a_display_copy_made_elsewhere_is_the_one_display_makes(sphere_stl, tmp_path,
@@ -295,3 +333,37 @@ def test_seeding_a_display_copy_needs_a_cache_and_a_valid_entry(sphere_stl, tmp_
     bad[-1] = header["vertices"]  # a face index past the vertices
     lib.seed_display(sphere_stl, 100, header, bad)
     assert not lib.display_cached(sphere_stl, 100)
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_warm_check_runs_no_qhull(sphere_stl, tmp_path, monkeypatch, jobs):
+    """The second ``check`` of a link judged between a collision and a visual mesh takes
+    every hull (its points and its volume) from the cache, with or without workers."""
+    from scipy import spatial
+
+    from urdfinertia.cli import main
+
+    urdf = tmp_path / "two.urdf"
+    urdf.write_text(f"""<robot name="two"><link name="l">
+  <inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>
+  </inertial>
+  <visual><geometry><mesh filename="{sphere_stl.name}" scale="2 2 2"/></geometry></visual>
+  <collision><geometry><mesh filename="{sphere_stl.name}"/></geometry></collision>
+</link></robot>""")
+    monkeypatch.setenv("URDFINERTIA_CACHE_DIR", str(tmp_path / "cache"))
+    hulls: list = []
+    real = MeshLibrary.hull_volume
+    monkeypatch.setattr(MeshLibrary, "hull_volume",
+                        lambda self, *a: hulls.append(a) or real(self, *a))
+    first = main(["check", str(urdf), "-q", "-j", jobs, "--json", str(tmp_path / "1.json")])
+    assert hulls  # the choice weighed the hulls
+
+    def no_qhull(*args, **kwargs):
+        raise AssertionError("Qhull ran in a warm check")
+
+    monkeypatch.setattr(spatial, "ConvexHull", no_qhull)
+    hulls.clear()
+    assert main(["check", str(urdf), "-q", "-j", jobs, "--json",
+                 str(tmp_path / "2.json")]) == first
+    assert hulls
+    assert (tmp_path / "1.json").read_bytes() == (tmp_path / "2.json").read_bytes()

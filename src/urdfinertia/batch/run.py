@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from urdfinertia.atomic import atomic_write_bytes, write_in_place
+from urdfinertia.atomic import OutputWriter, write_in_place
 from urdfinertia.batch.executors import open_executor, submit
 from urdfinertia.batch.file_cache import CachedResult, FileResults
 from urdfinertia.batch.inputs import FileJob
@@ -45,8 +45,8 @@ if TYPE_CHECKING:
 # What reads, repairs and integrates (numpy, lxml, the mesh readers) is imported by the
 # functions that compute: a warm run, whose every file comes from the cache, needs none of it.
 
-#: Threads writing the outputs of a run whose every file came from the cache: each write
-#: waits for its fsyncs, which overlap in threads.
+#: Threads writing the outputs of the files that came from the cache, before any worker
+#: process starts: each write waits for its fsync, which overlap in threads.
 WRITER_THREADS = 8
 #: Bytes of mesh files still to compute below which a run stays in one process: each
 #: worker first imports numpy, scipy, trimesh and manifold3d (about 1.5 CPU seconds),
@@ -100,10 +100,18 @@ class BatchReport:
     cache_misses: int = 0
     warnings: tuple[str, ...] = ()
     file_hits: int = 0  # files whose whole result came from the cache
+    #: per outcome: its output file already held exactly these bytes and was left
+    #: untouched (same inode and modification time)
+    up_to_date: tuple[bool, ...] = ()
 
     @property
     def failed(self) -> tuple[FileOutcome, ...]:
         return tuple(o for o in self.outcomes if o.error is not None)
+
+    @property
+    def untouched(self) -> int:
+        """Outputs that already held these bytes and were left untouched."""
+        return sum(self.up_to_date)
 
 
 class _Run:
@@ -119,6 +127,8 @@ class _Run:
         self.meshes: dict[Path, MeshSolids | Exception] = {}
         #: hull points of the meshes the geometry checks read (:meth:`MeshLibrary.points`)
         self.points: dict[Path, np.ndarray] = {}
+        #: the header of each "points" entry (with the hull's volume), for the library
+        self.point_headers: dict[Path, dict] = {}
         self.keys: dict[Path, str] = {}
         self.futures: dict[cf.Future, tuple[str, object]] = {}
         #: per file, what it waits for: ("solids" or "points", mesh path)
@@ -171,6 +181,7 @@ class _Run:
         if found is None or isinstance(found, MeshError) or len(found[1]) % 3:
             return False  # a refusal is the reader's to repeat, in context
         self.points[path] = found[1].reshape(-1, 3)
+        self.point_headers[path] = found[0]
         return True
 
     def store(self, path: Path, outcome: MeshSolids | Exception | None, faces: int,
@@ -180,9 +191,12 @@ class _Run:
         if points is not None and path not in self.points:
             self.points[path] = points
             if self.cache is not None:
+                from urdfinertia.cache.library import points_header
+
+                header = self.point_headers[path] = points_header(points)
                 with self.times.stage("cache"):
-                    self.cache.store_arrays(self.keys.get(path), "points", {"faces": faces},
-                                            points)
+                    self.cache.store_arrays(self.keys.get(path), "points",
+                                            {**header, "faces": faces}, points)
         if outcome is not None and self.cache is not None:
             with self.times.stage("cache"):
                 self.cache.store_mesh(self.keys.get(path), path, outcome, faces)
@@ -317,7 +331,7 @@ def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: Batch
     for path, outcome in run.meshes.items():
         library.seed(path, outcome)
     for path, points in run.points.items():
-        library.seed_points(path, points)
+        library.seed_points(path, points, run.point_headers.get(path))
     library.timer.merge(run.times)
     return library
 
@@ -326,8 +340,15 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
               settings: BatchSettings = BatchSettings(),
               progress: ProgressHook | None = None) -> BatchReport:
     """Fix every job's file, write its output, and report each file's outcome."""
+    with OutputWriter() as writer:
+        return _run_batch(jobs, options, settings, progress, writer)
+
+
+def _run_batch(jobs: Sequence[FileJob], options: FixOptions, settings: BatchSettings,
+               progress: ProgressHook | None, writer: OutputWriter) -> BatchReport:
     cache = settings.open_cache()
     outcomes: list[FileOutcome | None] = [None] * len(jobs)
+    up_to_date = [False] * len(jobs)
     total = len(jobs)
     done = 0
     times = StageTimes()
@@ -337,7 +358,7 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
         nonlocal done
         if outcome.error is None and outcome.document is not None:
             with times.stage("write"):
-                outcome = _write(jobs[i], outcome, settings)
+                outcome, up_to_date[i] = _write(jobs[i], outcome, settings, writer)
         outcomes[i] = outcome
         done += 1
         hook("files", done, total)
@@ -347,19 +368,28 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
     results = (FileResults(cache, options) if cache is not None and not settings.details
                else None)
     todo = list(range(total))
-    hits: list[tuple[int, FileOutcome]] = []
     if results is not None:
         todo = []
-        for i, job in enumerate(jobs):
-            with times.stage("cache"):
-                hit = results.lookup(job.source)
-            if hit is None:
-                todo.append(i)
-            else:
-                hits.append((i, _from_cache(job.source, *hit)))
+        # a file from the cache is written while the next ones are looked up, a few at
+        # once (each write waits for its fsync); the threads are gone before any worker
+        # process is forked, and a run without hits starts none
+        with cf.ThreadPoolExecutor(WRITER_THREADS,
+                                   thread_name_prefix="urdfinertia-write") as pool:
+            writes: list[tuple[int, cf.Future[tuple[FileOutcome, bool]]]] = []
+            for i, job in enumerate(jobs):
+                with times.stage("cache"):
+                    hit = results.lookup(job.source)
+                if hit is None:
+                    todo.append(i)
+                else:
+                    writes.append((i, pool.submit(_write, job, _from_cache(job.source, *hit),
+                                                  settings, writer)))
+            with times.stage("write"):
+                for i, fut in writes:
+                    outcomes[i], up_to_date[i] = fut.result()
+                    done += 1
+                    hook("files", done, total)
     if todo:
-        for i, outcome in hits:
-            finish(i, outcome)
 
         def finish_fresh(i: int, outcome: FileOutcome) -> None:
             reusable = outcome.reusable_error and (outcome.document is not None
@@ -377,17 +407,6 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
 
         meshes = _fix_all(jobs, todo, options, settings, cache, progress, times,
                           finish_fresh)
-    elif hits:
-        # everything came from the cache: only writing is left, and each write waits for
-        # its fsyncs, so a few threads write at once (no process pool runs that a thread
-        # could disturb)
-        with times.stage("write"), cf.ThreadPoolExecutor(
-                WRITER_THREADS, thread_name_prefix="urdfinertia-write") as writer:
-            written = writer.map(lambda hit: _write(jobs[hit[0]], hit[1], settings), hits)
-            for (i, _), outcome in zip(hits, written, strict=True):
-                outcomes[i] = outcome
-                done += 1
-                hook("files", done, total)
     for o in outcomes:
         assert o is not None
         times.merge(o.times)
@@ -396,9 +415,13 @@ def run_batch(jobs: Sequence[FileJob], options: FixOptions,
         with times.stage("cache"):
             cache.prune()
         warnings = tuple(cache.warnings)
+    with times.stage("write"):
+        writer.close()  # each folder's renames made durable once, after all its files
     return BatchReport(tuple(o for o in outcomes if o is not None), times, meshes,
                        cache.hits if cache else 0, cache.misses if cache else 0, warnings,
-                       results.hits if results is not None else 0)
+                       results.hits if results is not None else 0,
+                       tuple(u for o, u in zip(outcomes, up_to_date, strict=True)
+                             if o is not None))
 
 
 def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
@@ -435,7 +458,7 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
             for path, outcome in run.meshes.items():
                 library.seed(path, outcome)
             for path, points in run.points.items():
-                library.seed_points(path, points)
+                library.seed_points(path, points, run.point_headers.get(path))
             times.merge(run.times)  # the look-ups above; each file brings its own times
             for i in todo:
                 finish(i, fix_with_library(jobs[i].source, options, library,
@@ -476,10 +499,12 @@ def _from_cache(source: Path, result: CachedResult, original: bytes) -> FileOutc
                        left=result.left, problems=result.problems)
 
 
-def _write(job: FileJob, outcome: FileOutcome, settings: BatchSettings) -> FileOutcome:
-    """Write ``outcome``'s document where ``job`` says; drop it from memory once written."""
+def _write(job: FileJob, outcome: FileOutcome, settings: BatchSettings,
+           writer: OutputWriter) -> tuple[FileOutcome, bool]:
+    """Write ``outcome``'s document where ``job`` says; drop it from memory once written.
+    Also returns whether the output already held these bytes (and was left untouched)."""
     if outcome.error is not None or outcome.document is None:
-        return outcome
+        return outcome, False
     in_place = settings.in_place
     if not in_place and job.output is not None and not settings.keep_mesh_paths:
         from urdfinertia.descriptions.formats import relocate_references
@@ -488,19 +513,19 @@ def _write(job: FileJob, outcome: FileOutcome, settings: BatchSettings) -> FileO
         outcome = dataclasses.replace(outcome, document=moved, rewritten=rewritten)
     document = outcome.document
     if document is None:  # (checked above; relocation keeps a document)
-        return outcome
+        return outcome, False
     try:
         if in_place:
             if outcome.changed:
                 write_in_place(job.source, document)
-            return dataclasses.replace(outcome, output=job.source, document=None)
+            return dataclasses.replace(outcome, output=job.source, document=None), False
         if job.output is None:
-            return outcome
+            return outcome, False
         job.output.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write_bytes(job.output, document)
+        untouched = writer.write(job.output, document).untouched
     except OSError as exc:
         err = OutputError(f"cannot write: {exc.strerror or exc}", file=job.output)
-        return dataclasses.replace(outcome, error=str(err), document=None)
+        return dataclasses.replace(outcome, error=str(err), document=None), False
     except UrdfInertiaError as exc:
-        return dataclasses.replace(outcome, error=str(exc), document=None)
-    return dataclasses.replace(outcome, output=job.output, document=None)
+        return dataclasses.replace(outcome, error=str(exc), document=None), False
+    return dataclasses.replace(outcome, output=job.output, document=None), untouched

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import math
 import weakref
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -85,7 +86,42 @@ def points_of(mesh: TriangleMesh) -> np.ndarray:
 
 
 def _points_entry(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
-    return {}, points_of(mesh)
+    points = points_of(mesh)
+    return points_header(points), points
+
+
+def points_header(points: np.ndarray) -> dict:
+    """What a "points" cache entry records besides the points: the volume of their convex
+    hull (:func:`unit_hull_volume`), so that a warm run needs no Qhull (nor scipy)."""
+    return {"volume": unit_hull_volume(points)}
+
+
+def unit_hull_volume(points: np.ndarray) -> float | None:
+    """Volume of the convex hull of ``points`` (n, 3); None when they span no volume.
+
+    A mesh scaled by ``(sx, sy, sz)`` has the hull of its points scaled likewise, whose
+    volume is this one times ``|sx sy sz|`` (:meth:`MeshLibrary.hull_volume`): the hull is
+    computed once per mesh, not per scale, and kept in the cache with the points.
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return float(ConvexHull(np.asarray(points, dtype=np.float64).reshape(-1, 3)).volume)
+    except (QhullError, ValueError):
+        return None
+
+
+def _stored_volume(header: dict) -> tuple[bool, float | None]:
+    """(found, unit hull volume) of a "points" entry's header (entries written before
+    the volume was kept have none: it is then computed from the points)."""
+    if "volume" not in header:
+        return False, None
+    volume = header["volume"]
+    if volume is None:
+        return True, None
+    if isinstance(volume, float) and volume >= 0:
+        return True, volume
+    return False, None
 
 
 def hull_points(points: np.ndarray) -> np.ndarray:
@@ -166,6 +202,8 @@ class MeshLibrary:
         self._memo: dict[Path, MeshSolids | Exception] = {}
         self._points: dict[Path, np.ndarray] = {}
         self._hulls: dict[tuple[Path, tuple[float, ...]], float] = {}
+        #: per mesh, :func:`unit_hull_volume` of its points (None: they span no volume)
+        self._volumes: dict[Path, float | None] = {}
         self._resolved: dict[tuple[str, Path], Path | MeshError] = {}
         self._records: dict[tuple[str, Path], tuple[str, str, str]] = {}
         self._real_path = RealPaths()
@@ -216,9 +254,15 @@ class MeshLibrary:
         """Record a result computed elsewhere (another process) for the file at ``path``."""
         self._memo[self._key(Path(path))] = outcome
 
-    def seed_points(self, path: Path, points: np.ndarray) -> None:
-        """Record the :meth:`points` of the file at ``path`` computed elsewhere."""
-        self._points[self._key(Path(path))] = np.asarray(points, dtype=np.float64)
+    def seed_points(self, path: Path, points: np.ndarray, header: dict | None = None,
+                    ) -> None:
+        """Record the :meth:`points` of the file at ``path`` computed elsewhere, with the
+        header of their cache entry (:func:`points_header`) when there is one."""
+        key = self._key(Path(path))
+        self._points[key] = np.asarray(points, dtype=np.float64)
+        known, volume = _stored_volume(header or {})
+        if known:
+            self._volumes[key] = volume
 
     def _read(self, key: Path, max_faces: int) -> TriangleMesh:
         """The mesh file ``key``, read once while it is in the stash (kept for a later
@@ -276,9 +320,12 @@ class MeshLibrary:
         key = self._key(path)
         found = self._points.get(key)
         if found is None:
-            numbers = self._derived(key, "points", _points_entry,
-                                    lambda h, x: len(x) % 3 == 0)[1]
+            header, numbers, _ = self._derived(key, "points", _points_entry,
+                                               lambda h, x: len(x) % 3 == 0)
             found = self._points[key] = numbers.reshape(-1, 3)
+            known, volume = _stored_volume(header)
+            if known:
+                self._volumes.setdefault(key, volume)
         return found
 
     def hull_volume(self, path: Path, scale: tuple[float, ...] = (1.0, 1.0, 1.0)) -> float:
@@ -289,16 +336,20 @@ class MeshLibrary:
         ------
         MeshError
             As :meth:`points`.
-        ValueError, scipy.spatial.QhullError
+        ValueError
             When the points span no volume.
         """
-        from scipy.spatial import ConvexHull
-
-        key = (self._key(path), tuple(float(v) for v in scale))
+        mesh = self._key(path)
+        key = (mesh, tuple(float(v) for v in scale))
         found = self._hulls.get(key)
         if found is None:
-            found = self._hulls[key] = float(
-                ConvexHull(self.points(path) * np.asarray(scale)).volume)
+            points = self.points(path)  # with the cache: the hull's volume too
+            if mesh not in self._volumes:
+                self._volumes[mesh] = unit_hull_volume(points)
+            unit = self._volumes[mesh]
+            if unit is None:
+                raise ValueError(f"the points of {path} span no volume")
+            found = self._hulls[key] = unit * abs(math.prod(key[1]))
         return found
 
     def display(self, path: Path, max_faces: int, reduce: Reducer,

@@ -193,7 +193,9 @@ def run_many(args: argparse.Namespace, options: FixOptions) -> int:
         print_timings(report.times, stderr_console())
     code = batch_exit_code(report)
     if args.json is not None:
-        doc = {"exit_code": code, "files": [_file_json(o) for o in report.outcomes]}
+        doc = {"exit_code": code, "files": [
+            _file_json(o, up) for o, up in zip(report.outcomes, _up_to_date(report),
+                                               strict=True)]}
         atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
     for w in report.warnings:
         print(f"urdf-inertia: warning: {w}", file=sys.stderr)
@@ -211,11 +213,18 @@ def run_many(args: argparse.Namespace, options: FixOptions) -> int:
         print(f"urdf-inertia: {rewritten} relative mesh reference(s) rewritten to resolve "
               "from the output folder (--keep-mesh-paths keeps them)", file=sys.stderr)
     written = sum(o.error is None for o in report.outcomes)
+    untouched = (f"; {report.untouched} of them already held these bytes and were left "
+                 "untouched" if report.untouched else "")
     print(f"urdf-inertia: {len(report.outcomes)} files: {written} written "
           f"({len(partial)} with links left as they were: "
-          f"{sum(len(o.left) for o in partial)} links), {len(report.failed)} failed",
-          file=sys.stderr)
+          f"{sum(len(o.left) for o in partial)} links{untouched}), "
+          f"{len(report.failed)} failed", file=sys.stderr)
     return code
+
+
+def _up_to_date(report: BatchReport) -> tuple[bool, ...]:
+    """Per outcome: its output already held these bytes (a report built without it: no)."""
+    return report.up_to_date or (False,) * len(report.outcomes)
 
 
 def batch_exit_code(report: BatchReport) -> int:
@@ -228,13 +237,14 @@ def batch_exit_code(report: BatchReport) -> int:
     return fix_exit_code(sum(len(o.left) for o in report.outcomes))
 
 
-def _file_json(o) -> dict:  # noqa: ANN001 - a FileOutcome
+def _file_json(o, up_to_date: bool) -> dict:  # noqa: ANN001 - a FileOutcome
     doc = dict(o.details) if o.details is not None else {"file": str(o.source)}
     if o.error is not None:
         doc["error"] = o.error
     doc["left_as_they_were"] = list(o.left)
     doc["problems"] = list(o.problems)
     doc["mesh_references_rewritten"] = o.rewritten
+    doc["output_up_to_date"] = up_to_date
     return doc
 
 
@@ -247,12 +257,14 @@ def summary_table(report: BatchReport) -> Table:
     for col in ("file", "robot", "links recomputed", "left", "warnings", "result"):
         table.add_column(col, overflow="fold")
     cwd = Path.cwd()
-    for o in report.outcomes:
+    for o, up_to_date in zip(report.outcomes, _up_to_date(report), strict=True):
         name = os.path.relpath(o.source, cwd) if o.source.is_absolute() else str(o.source)
         if o.error is not None:
             table.add_row(name, o.robot, "-", "-", "-", "[red]failed[/red]")
             continue
         result = str(o.output) if o.output is not None else "-"
+        if up_to_date:
+            result += " (up to date, untouched)"
         table.add_row(name, o.robot, f"{o.recomputed}/{o.links}",
                       f"[yellow]{len(o.left)}[/yellow]" if o.left else "0",
                       str(len(o.warnings) + len(o.problems)),

@@ -129,8 +129,13 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
 
 def configure_descriptions(args: argparse.Namespace) -> None:
     """Settings that reading a description needs beyond its path: xacro's arguments and
-    where ``$(find PKG)`` points (set for the whole run; commands without them reset)."""
-    from urdfinertia.descriptions.xacro.expand import configure
+    where ``$(find PKG)`` points (set for the whole run; commands without them reset).
+
+    Only the settings are set: xacro support itself (the ``xacro`` package, ``xml.dom``,
+    lxml) is imported by the first expansion, so a run without xacro input, or whose every
+    file comes from the cache, never loads it.
+    """
+    from urdfinertia.descriptions.xacro.settings import configure
 
     configure(dict(getattr(args, "xacro_arg", None) or []),
               dict(getattr(args, "package_dir", None) or []))

@@ -41,7 +41,7 @@ def wants_write_back(args: argparse.Namespace, result: FixResult) -> bool:
 def write_back(args: argparse.Namespace, result: FixResult) -> Plan:
     """Plan and apply the write-back of ``result`` (a fixed xacro robot): the library's
     :func:`urdfinertia.link.save.write_back` with the command line's xacro settings."""
-    from urdfinertia.descriptions.xacro.expand import current_settings
+    from urdfinertia.descriptions.xacro.settings import current_settings
     from urdfinertia.errors import UrdfInertiaError
     from urdfinertia.link.save import write_back as write_sources
 

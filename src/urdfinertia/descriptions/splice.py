@@ -12,11 +12,17 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from urdfinertia.errors import UrdfError
-from urdfinertia.inertia.massprops import MassProperties
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from urdfinertia.inertia.massprops import MassProperties
+
+# numpy is imported by :func:`clean` alone: writing a cached result, relocating mesh
+# references or scanning tags (every warm run) needs none of it.
 
 NAME_ATTR = re.compile(rb"(?:^|\s)name\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
 #: XML's predefined entities (xml.sax.saxutils would import urllib and http on every run)
@@ -38,9 +44,6 @@ def attribute_text(raw: bytes) -> str:
     one pass (so ``&#38;lt;`` stays ``&lt;``)."""
     return _REFERENCE.sub(_decode_reference, raw.decode("utf-8"))
 
-
-_OFF_DIAGONAL = ~np.eye(3, dtype=bool)
-_OFF_DIAGONAL.setflags(write=False)
 
 #: Off-diagonal products and CoM components smaller than this fraction of the largest
 #: principal moment (or of the geometry's size) are round-off and written as 0.
@@ -89,11 +92,13 @@ def format_float(value: float) -> str:
 
 def clean(props: MassProperties, size: float) -> tuple[np.ndarray, np.ndarray]:
     """CoM and tensor with round-off noise set to exactly 0 (see ``NOISE_RTOL``)."""
+    import numpy as np
+
     com = np.array(props.com)
     com[np.abs(com) < NOISE_RTOL * max(size, 1e-300)] = 0.0
     inertia = np.array(props.inertia)
     scale = float(np.abs(np.diag(inertia)).max())
-    off = _OFF_DIAGONAL
+    off = ~np.eye(3, dtype=bool)
     inertia[off & (np.abs(inertia) < NOISE_RTOL * scale)] = 0.0
     return com, inertia
 

@@ -199,10 +199,8 @@ def _mesh_kind(ref: GeometryRef, volume: float, meshes: MeshSource, urdf_dir: Pa
     if hull_of is None:
         return "mesh"
     try:
-        from scipy.spatial import QhullError
-
         hull = hull_of(meshes.resolve(ref.shape.filename, urdf_dir), tuple(ref.shape.scale))
-    except (UrdfInertiaError, ValueError, QhullError):
+    except (UrdfInertiaError, ValueError):
         return "mesh"
     return "hull" if hull > 0 and volume >= CONVEX_RATIO * hull else "mesh"
 

@@ -37,6 +37,12 @@ from typing import Any
 from xml.dom import expatbuilder, minidom
 from xml.parsers import expat
 
+from urdfinertia.descriptions.xacro.settings import (  # noqa: F401 - this module's API too
+    XacroSettings,
+    configure,
+    current_settings,
+    settings_for,
+)
 from urdfinertia.descriptions.xml import MAX_DOCUMENT_BYTES, hostile_xml_cause
 from urdfinertia.errors import UrdfError, UrdfInertiaError
 
@@ -46,45 +52,6 @@ SOURCE_ATTR = "urdfinertia-src"
 MAX_EVALUATED_ELEMENTS = 2_000_000
 _URL = re.compile(r"[A-Za-z][A-Za-z0-9+.\-]*://")
 _LOCK = threading.RLock()
-
-
-@dataclass(frozen=True)
-class XacroSettings:
-    """``--xacro-arg NAME:=VALUE`` and ``--package-dir NAME=PATH`` for every expansion."""
-
-    args: tuple[tuple[str, str], ...] = ()
-    package_dirs: tuple[tuple[str, str], ...] = ()
-
-
-_settings = XacroSettings()
-
-
-def configure(args: Mapping[str, str] | None = None,
-              package_dirs: Mapping[str, str | Path] | None = None) -> None:
-    """Set the arguments and package folders used by every later expansion (the CLI)."""
-    global _settings
-    _settings = XacroSettings(
-        tuple(sorted((args or {}).items())),
-        tuple(sorted((k, str(v)) for k, v in (package_dirs or {}).items())))
-
-
-def current_settings() -> XacroSettings:
-    return _settings
-
-
-@contextlib.contextmanager
-def settings_for(args: Mapping[str, str] | None = None,
-                 package_dirs: Mapping[str, str | Path] | None = None,
-                 ) -> Iterator[XacroSettings]:
-    """Expansions inside the ``with`` block use ``args`` and ``package_dirs``; the settings
-    before it are restored after (the library's per-call xacro options)."""
-    global _settings
-    before = _settings
-    configure(args, package_dirs)
-    try:
-        yield _settings
-    finally:
-        _settings = before
 
 
 @dataclass(frozen=True)
@@ -326,7 +293,7 @@ def expand_xacro(path: str | Path, data: bytes | None = None, *,
     import xacro
 
     path = Path(path).absolute()
-    settings = settings or _settings
+    settings = settings or current_settings()
     real = {os.path.realpath(p): v for p, v in (overrides or {}).items()}
     if data is not None:
         real.setdefault(os.path.realpath(path), data)
