@@ -752,3 +752,37 @@ def test_numbers_counted_as_numpy_parses_them(seed):
         if seed == 2:
             text = " ".join(numbers)  # the common layout
         assert _count_numbers(text) == len(np.fromstring(text, sep=" ")) == len(numbers)
+
+
+@pytest.mark.parametrize("case", ["transforms", "no-scene"])
+def test_collada_document_freed_when_read(monkeypatch, case):
+    """pycollada's document holds reference cycles: the reader breaks them, so the parsed
+    file is freed as soon as it is read (or handed over), not by the cyclic collector."""
+    import gc
+    import weakref
+
+    from urdfinertia.mesh.read import collada as reader
+
+    made = []
+    make = reader._Document
+
+    def document(*args, **kwargs):
+        doc = make(*args, **kwargs)
+        made.append(weakref.ref(doc))
+        return doc
+
+    monkeypatch.setattr(reader, "_Document", document)
+    data = (DIRECT_CASES | HANDED_OVER_CASES)[case].encode()
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        try:
+            pieces = reader.read_collada(data)
+        except reader.NeedsPycollada:
+            pieces = None
+        assert len(made) == 1
+        assert made[0]() is None
+    finally:
+        if enabled:
+            gc.enable()
+    assert (pieces is None) == (case == "no-scene")  # read, or handed over

@@ -129,9 +129,13 @@ def mesh_task(path: str, max_faces: int, solids: bool = True,
     reads the file again for the geometry checks. The error is returned, not raised, so
     that each file using the mesh repeats it exactly as a single-process run would.
     """
+    from urdfinertia.batch.heap import release_free_memory
     from urdfinertia.cache import library as meshlib
 
     load_compute_modules()
+    # what the previous mesh freed goes back to the system before this one is read, so
+    # that a worker's peak is its largest mesh's, not the sum of what its heap kept
+    release_free_memory()
     times = StageTimes()
     faces = 0
     points = None

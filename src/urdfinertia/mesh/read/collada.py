@@ -49,10 +49,29 @@ def read_collada(data: bytes) -> list[Piece]:
     NeedsPycollada
         The document uses something this reader does not reproduce exactly.
     """
+    doc = _Document(io.BytesIO(data), ignore=_ignores())
+    try:
+        return _scene_pieces(doc)
+    finally:
+        _release(doc)
+
+
+def _release(doc: Any) -> None:
+    """Drop what the document holds, so that its lxml tree and objects are freed now.
+
+    pycollada's document and its parts refer to each other (a bound method, the scene's
+    and materials' back references): left alone, the whole parsed file waits for the
+    cyclic garbage collector, on top of the arrays the repair then builds. The pieces
+    returned hold arrays of their own, not pycollada's.
+    """
+    doc.__dict__.clear()
+
+
+def _scene_pieces(doc: Any) -> list[Piece]:
+    """The triangle-set instances of ``doc``'s default scene, as trimesh walks it."""
     import collada
     from trimesh.exchange.dae import _parse_material
 
-    doc = _Document(io.BytesIO(data), ignore=_ignores())
     # what load_collada does with materials (its only use of them that may fail)
     material_map = {m.id: _parse_material(m.effect, None) for m in doc.materials}
     unit = doc.assetInfo.unitmeter

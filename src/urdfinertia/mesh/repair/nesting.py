@@ -37,6 +37,7 @@ def nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
             & (size[:, None] < size[None]) & ~skip[:, None] & ~skip[None])
     inside = np.zeros((k, k), dtype=bool)  # inside[p, q]: surface p lies in surface q
     probes = _probe_points(tri[order], bounds) if cand.any() else np.zeros((0, 3))
+    del tri, corner_lo, corner_hi  # freed before the winding numbers (memory)
     for q in np.flatnonzero(cand.any(axis=0)):  # one winding evaluation per container
         ps = np.flatnonzero(cand[:, q])
         mine = order[bounds[q]:bounds[q + 1]]

@@ -135,6 +135,7 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     if not size > 0:
         raise MeshError("mesh is a single point: it encloses no volume", code="no-volume")
     n_in = len(used)
+    del used  # a copy of every used vertex: not kept through the repair (memory)
     vertices, faces = weld_vertices(vertices, faces, WELD_RTOL * size)
     if len(vertices) < n_in:
         notes.append(f"merged {n_in - len(vertices)} duplicate vertices")
@@ -426,6 +427,9 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
     own_tri = tri if closed is not None else np.take(own_v, own_f, axis=0) - centre
     volume = np.bincount(face_patch, weights=face_volumes(own_tri), minlength=n_patch)
     area = np.bincount(patch, weights=_areas(tri), minlength=n_patch)
+    # the corner copies are not needed past here: freed before the nesting test, the
+    # memory peak of a large mesh
+    del tri, own_tri
     flat = ~(np.abs(volume) > FLAT_RTOL * area ** 1.5)
     majority_flipped = 2 * np.bincount(patch, weights=flip, minlength=n_patch) > \
         np.bincount(patch, minlength=n_patch)

@@ -26,18 +26,21 @@ def union_bodies(bodies: Sequence[_Closed]) -> tuple[np.ndarray, np.ndarray] | N
 
     parts = []
     for body in bodies:
-        mesh = manifold3d.Mesh64(
+        # the Mesh64 is a temporary: manifold3d keeps its own copy
+        parts.append(manifold3d.Manifold(manifold3d.Mesh64(
             vert_properties=np.ascontiguousarray(body.vertices, dtype=np.float64),
             tri_verts=np.ascontiguousarray(body.faces, dtype=np.uint64),
-        )
-        solid = manifold3d.Manifold(mesh)
-        if solid.status() != manifold3d.Error.NoError or solid.is_empty():
+        )))
+        if parts[-1].status() != manifold3d.Error.NoError or parts[-1].is_empty():
             return None
-        parts.append(solid)
     result = manifold3d.Manifold.batch_boolean(parts, manifold3d.OpType.Add)
     if result.status() != manifold3d.Error.NoError:
         return None
+    # the operands (evaluated into the result by status()) and then the result are freed
+    # as soon as they are no longer needed: the union is the memory peak of a large mesh
+    del parts
     out = result.to_mesh64()
+    del result
     vertices = np.asarray(out.vert_properties, dtype=np.float64)[:, :3]
     faces = np.asarray(out.tri_verts, dtype=np.int64)
     return vertices, faces
