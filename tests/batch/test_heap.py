@@ -16,7 +16,7 @@ def test_release_free_memory_trims_on_glibc():
 
     if platform.libc_ver()[0] != "glibc":
         pytest.skip("not a glibc system")
-    assert heap.release_free_memory() is True
+    assert heap.release_free_memory(above=None) is True
 
 
 def test_release_free_memory_is_a_no_op_without_malloc_trim(monkeypatch):
@@ -29,7 +29,19 @@ def test_release_free_memory_survives_a_failing_call(monkeypatch):
         raise OSError("no")
 
     monkeypatch.setattr(heap, "_TRIM", failing)
-    assert heap.release_free_memory() is False
+    assert heap.release_free_memory(above=None) is False
+
+
+def test_release_free_memory_trims_only_above_the_resident_size(monkeypatch):
+    calls: list[int] = []
+    monkeypatch.setattr(heap, "_TRIM", lambda pad: calls.append(pad) or 1)
+    resident = heap.resident_bytes()
+    if resident is None:
+        pytest.skip("no /proc/self/statm")
+    assert resident > 10 * 2**20  # a Python process with numpy holds more than this
+    assert heap.release_free_memory(above=resident * 4) is False and calls == []
+    assert heap.release_free_memory(above=resident // 4) is True and calls == [0]
+    assert heap.release_free_memory(above=None) is True and calls == [0, 0]
 
 
 def test_mesh_task_releases_memory_before_each_mesh(tmp_path, monkeypatch):

@@ -4,15 +4,27 @@ A worker process repairs mesh after mesh. glibc's allocator keeps much of what a
 mesh's arrays freed on its heap (numpy's large blocks move its mmap threshold up, so
 later ones come from the heap too), and the next mesh's peak adds to what the process
 already holds. ``malloc_trim(0)`` returns the free pages; the arrays themselves, hence
-the results, are untouched.
+the results, are untouched. A trim costs system time (the pages it returns fault in again
+for the next mesh), so it is done only while the process holds more than
+:data:`TRIM_ABOVE`: after a large mesh, not between small ones.
 """
 
 from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import os
 import sys
 from collections.abc import Callable
+
+try:
+    _PAGE = os.sysconf("SC_PAGE_SIZE")
+except (AttributeError, ValueError, OSError):  # not a POSIX system
+    _PAGE = 4096
+
+#: Resident size (bytes) above which freed memory is handed back: a worker holds about
+#: 150 MB after its imports; only a large mesh's leftovers take it past this.
+TRIM_ABOVE = 192 * 2**20
 
 #: glibc's ``malloc_trim``, once looked up; False where there is none.
 _TRIM: Callable[[int], int] | bool | None = None
@@ -34,15 +46,30 @@ def _malloc_trim() -> Callable[[int], int] | None:
     return _TRIM if callable(_TRIM) else None
 
 
-def release_free_memory() -> bool:
+def resident_bytes() -> int | None:
+    """The process's resident set size, from ``/proc/self/statm``; None where unreadable."""
+    try:
+        with open("/proc/self/statm", "rb") as f:
+            pages = int(f.read().split()[1])
+    except (OSError, ValueError, IndexError):
+        return None
+    return pages * _PAGE
+
+
+def release_free_memory(above: int | None = TRIM_ABOVE) -> bool:
     """Return the allocator's free memory to the system (glibc's ``malloc_trim(0)``).
 
-    Returns whether it was done: False where there is no glibc or the call failed; the
-    process then goes on as it was.
+    Only while the process holds more than ``above`` bytes (None: always). Returns
+    whether it was done: False below that size, where there is no glibc or the call
+    failed; the process then goes on as it was.
     """
     trim = _malloc_trim()
     if trim is None:
         return False
+    if above is not None:
+        resident = resident_bytes()
+        if resident is not None and resident <= above:
+            return False
     try:
         trim(0)
     except OSError:
