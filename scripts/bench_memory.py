@@ -102,7 +102,7 @@ def child(urdf: str, out: str) -> int:
 _MESH_CHILD = r"""
 import json, sys
 from urdfinertia.batch.tasks import mesh_task
-solids, faces, _, _ = mesh_task(sys.argv[1], int(sys.argv[2]))
+solids, faces = mesh_task(sys.argv[1], int(sys.argv[2]))[:2]  # (older revisions return fewer)
 peak = 0.0
 for line in open("/proc/self/status"):
     if line.startswith("VmHWM:"):

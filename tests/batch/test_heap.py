@@ -54,6 +54,6 @@ def test_mesh_task_releases_memory_before_each_mesh(tmp_path, monkeypatch):
     monkeypatch.setattr(heap, "release_free_memory", lambda: events.append("release") or True)
     monkeypatch.setattr(meshlib, "load_mesh", lambda p, m: events.append("read") or real(p, m))
     for _ in range(2):
-        solids, faces, _, points = tasks.mesh_task(str(path), 1000)
+        solids, faces, _, points, _ = tasks.mesh_task(str(path), 1000)
         assert not isinstance(solids, Exception) and faces == 12 and points is not None
     assert events == ["release", "read", "release", "read"]

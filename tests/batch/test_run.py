@@ -524,6 +524,35 @@ def test_workers_read_each_mesh_once_for_its_points_and_solids(checked_tree, tmp
     assert outputs(tmp_path / "one") == outputs(tmp_path / "two")
 
 
+@pytest.mark.parametrize("cache", [True, False])
+def test_workers_compute_each_hull_volume_once_and_the_gathering_process_none(
+        checked_tree, tmp_path, monkeypatch, cache):
+    import threading
+
+    calls: list[bool] = []  # True: on the thread that gathers the results
+    real = meshlib.unit_hull_volume
+
+    def counted(points):
+        calls.append(threading.current_thread() is threading.main_thread())
+        return real(points)
+
+    monkeypatch.setattr(meshlib, "unit_hull_volume", counted)
+    monkeypatch.setattr(batch, "open_executor", threads)
+    settings = (BatchSettings(jobs=2, cache_dir=tmp_path / "c") if cache
+                else BatchSettings(jobs=2, use_cache=False))
+    report = run_batch(collect_jobs([checked_tree], tmp_path / "two"),
+                       FixOptions(recompute="all"), settings)
+    assert not report.failed
+    # one Qhull per mesh file (box, ball, shell), in the workers; the file tasks and the
+    # gathering process reuse the volume the worker sent
+    assert len(calls) == 3 and not any(calls)
+    # and the result is the one a single process computes for itself
+    one = run_batch(collect_jobs([checked_tree], tmp_path / "one"),
+                    FixOptions(recompute="all"), BatchSettings(jobs=1, use_cache=False))
+    assert not one.failed
+    assert outputs(tmp_path / "one") == outputs(tmp_path / "two")
+
+
 def test_mesh_needs_lists_every_mesh_of_a_checked_link_for_points(checked_tree):
     solids, points = batch.mesh_needs(checked_tree / "one.urdf", FixOptions())
     assert [p.name for p in solids] == ["box.stl"]

@@ -185,15 +185,21 @@ class _Run:
         return True
 
     def store(self, path: Path, outcome: MeshSolids | Exception | None, faces: int,
-              points: np.ndarray | None) -> None:
+              points: np.ndarray | None, header: dict | None = None) -> None:
+        """Keep a worker's results for ``path`` (and put them in the cache). ``header``
+        is the points' cache header the worker computed (:func:`~urdfinertia.cache.
+        library.points_header`); computed here only when it is missing."""
         if outcome is not None:
             self.meshes[path] = outcome
         if points is not None and path not in self.points:
             self.points[path] = points
+            if header is not None:
+                self.point_headers[path] = header
             if self.cache is not None:
-                from urdfinertia.cache.library import points_header
+                if header is None:
+                    from urdfinertia.cache.library import points_header
 
-                header = self.point_headers[path] = points_header(points)
+                    header = self.point_headers[path] = points_header(points)
                 with self.times.stage("cache"):
                     self.cache.store_arrays(self.keys.get(path), "points",
                                             {**header, "faces": faces}, points)
@@ -254,27 +260,28 @@ class _Run:
     def mesh_done(self, group: list[Path], fut: cf.Future) -> None:
         points = None
         try:
-            outcome, faces, times, points = fut.result()
+            outcome, faces, times, points, header = fut.result()
             self.times.merge(times)
         except Exception as exc:  # noqa: BLE001 - a dead worker fails its meshes only
             outcome, faces = MeshError(f"worker failed: {type(exc).__name__}: {exc}",
                                        file=group[0]), 0
+            header = None
         for p in group:
-            self.store(p, outcome, faces, points)
+            self.store(p, outcome, faces, points, header)
             self.done_meshes += 1
             self._arrived(("solids", p))
             self._arrived(("points", p))  # or not: the file's task reads it and says why
         self.progress("meshes", self.done_meshes, self.total_meshes)
 
     def points_done(self, paths: list[Path], fut: cf.Future) -> None:
-        points, faces = None, 0
+        points, faces, header = None, 0, None
         try:
-            _, faces, times, points = fut.result()
+            _, faces, times, points, header = fut.result()
             self.times.merge(times)
         except Exception:  # noqa: BLE001 - the file's own task reads it and says why
             pass
         for p in paths:
-            self.store(p, None, faces, points)
+            self.store(p, None, faces, points, header)
             self._arrived(("points", p))
 
     def _arrived(self, item: tuple[str, Path]) -> None:
@@ -285,6 +292,9 @@ class _Run:
 
     def point_seeds(self, paths: Sequence[Path]) -> dict[str, np.ndarray]:
         return {str(p): self.points[p] for p in paths if p in self.points}
+
+    def header_seeds(self, paths: Sequence[Path]) -> dict[str, dict]:
+        return {str(p): self.point_headers[p] for p in paths if p in self.point_headers}
 
     def drain(self, on_file: Callable[[object, cf.Future], None]) -> None:
         """Wait for all submitted work, dispatching results as they arrive."""
@@ -472,7 +482,8 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
                 return  # taken from the whole-file cache
             seeds = {str(p): run.meshes[p] for p in needs[i]}
             fut = submit(pool, fix_file_task, str(jobs[i].source), options, seeds,
-                         settings.details, run.point_seeds(point_needs[i]))
+                         settings.details, run.point_seeds(point_needs[i]),
+                         run.header_seeds(point_needs[i]))
             run.futures[fut] = ("file", i)
 
         def file_done(i: object, fut: cf.Future) -> None:

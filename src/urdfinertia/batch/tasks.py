@@ -121,13 +121,18 @@ def mesh_needs(source: Path, options: FixOptions) -> tuple[list[Path], list[Path
 # ---------------------------------------------------------------------------- work units
 
 def mesh_task(path: str, max_faces: int, solids: bool = True,
-              ) -> tuple[MeshSolids | Exception | None, int, StageTimes, np.ndarray | None]:
+              ) -> tuple[MeshSolids | Exception | None, int, StageTimes, np.ndarray | None,
+                         dict | None]:
     """Read one mesh file and integrate it (unless ``solids`` is False): (solids or the
-    error, face count, stage times, its hull points or None when it cannot be read).
+    error, face count, stage times, its hull points or None when it cannot be read, and
+    their cache header with the hull's volume, :func:`~urdfinertia.cache.library.
+    points_header`).
 
     The points (:meth:`MeshLibrary.points`) come from the same reading, so no process
-    reads the file again for the geometry checks. The error is returned, not raised, so
-    that each file using the mesh repeats it exactly as a single-process run would.
+    reads the file again for the geometry checks; the hull's volume is computed here,
+    in the worker, not by the process that gathers the results (which then needs no
+    Qhull, nor scipy) nor again by each file's task. The error is returned, not raised,
+    so that each file using the mesh repeats it exactly as a single-process run would.
     """
     from urdfinertia.batch.heap import release_free_memory
     from urdfinertia.cache import library as meshlib
@@ -138,18 +143,19 @@ def mesh_task(path: str, max_faces: int, solids: bool = True,
     release_free_memory()
     times = StageTimes()
     faces = 0
-    points = None
+    points = header = None
     try:
         with times.stage("mesh read"):
             mesh = meshlib.load_mesh(path, max_faces)
         faces = len(mesh.faces)
         with times.stage("assemble"):
             points = meshlib.points_of(mesh)
+            header = meshlib.points_header(points)
         if not solids:
-            return None, faces, times, points
-        return meshlib.integrate_mesh(mesh, times), faces, times, points
+            return None, faces, times, points, header
+        return meshlib.integrate_mesh(mesh, times), faces, times, points, header
     except Exception as exc:  # noqa: BLE001 - reported per file by fix_with_library
-        return exc, faces, times, points
+        return exc, faces, times, points, header
 
 
 def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
@@ -213,15 +219,18 @@ def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
 def fix_file_task(source: str, options: FixOptions,
                   seeds: Mapping[str, MeshSolids | Exception],
                   details: bool = False,
-                  points: Mapping[str, np.ndarray] | None = None) -> FileOutcome:
+                  points: Mapping[str, np.ndarray] | None = None,
+                  headers: Mapping[str, dict] | None = None) -> FileOutcome:
     """The per-file unit of work run by a worker: ``seeds`` are its meshes' results,
-    ``points`` their hull points."""
+    ``points`` their hull points, ``headers`` those points' cache headers (the hull's
+    volume, so that no Qhull runs again here)."""
     from urdfinertia.cache.library import MeshLibrary
 
     load_compute_modules()
     meshes = MeshLibrary(options.package_dirs, options.max_faces)
     for path, outcome in seeds.items():
         meshes.seed(Path(path), outcome)
+    headers = headers or {}
     for path, found in (points or {}).items():
-        meshes.seed_points(Path(path), found)
+        meshes.seed_points(Path(path), found, headers.get(path))
     return fix_with_library(Path(source), options, meshes, details)
