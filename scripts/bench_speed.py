@@ -405,15 +405,19 @@ def robot_rows(code: Path, t: Path, robot: Path) -> None:
     """fix cold and warm, check twice, report cold and after fix, on one robot."""
     t.mkdir(parents=True, exist_ok=True)
     naive, res = run_child(["--child", "baseline", "--robots", str(robot)], code)
+    refs = res["refs"]
     print(f"naive loop over this robot's collision meshes: {naive:.2f} s "
-          f"({res['refs']} references, one process)")
+          f"({refs} references, one process"
+          + ("; no collision mesh: the loop is its imports, no ratio is taken)" if not refs
+             else ")"))
     cache = t / "cache-robot"
     for flags in ((), ("--all",)):
         wall, res = cli(code, cache if not flags else t / "cache-robot-all", "fix",
                         str(robot), "-o", str(t / "robot.urdf"), "-q", *flags)
+        ratio = (f"{wall / naive:.2f}x naive, {verdict(wall / naive, ROBOT_X_NAIVE)}"
+                 if refs else "no naive ratio")
         print(f"fix{''.join(' ' + f for f in flags)} cold: {wall:.2f} s "
-              f"({verdict(wall, ROBOT_COLD_S)}; {wall / naive:.2f}x naive, "
-              f"{verdict(wall / naive, ROBOT_X_NAIVE)}), CPU "
+              f"({verdict(wall, ROBOT_COLD_S)}; {ratio}), CPU "
               f"{res.get('cpu', float('nan')):.1f} s, peak main "
               f"{res['peak_main_mb']:.0f} MB, whole run {res.get('tree_mb', 0):.0f} MB")
     wall, _ = cli(code, cache, "fix", str(robot), "-o", str(t / "robot2.urdf"), "-q")
