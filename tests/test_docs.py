@@ -49,7 +49,9 @@ def test_full_precision_floats_match_within_round_off_only():
 def test_pages_and_sources_hold_no_machine_paths_history_or_hashes():
     """Docs, docstrings and comments say what the tool does, not where it was built or when
     it changed (history belongs in git log and the changelog)."""
-    bad = re.compile(r"(/work/|/tmp/|/root/|\bissue \d+|\bcommit [0-9a-f]{7,40}\b)",
+    bad = re.compile(r"(/work/|/tmp/|/root/|\bissue \d+|\bcommit [0-9a-f]{7,40}\b"
+                     r"|--against\s+`?[0-9a-f]{7,40}\b"
+                     r"|\b(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,12}'s\b)",
                      re.IGNORECASE)
     pages = [*FILES, ROOT / "CHANGELOG.md", *sorted((ROOT / "src").rglob("*.py")),
              *sorted((ROOT / "scripts").glob("*.*"))]
