@@ -187,8 +187,9 @@ class _Run:
     def store(self, path: Path, outcome: MeshSolids | Exception | None, faces: int,
               points: np.ndarray | None, header: dict | None = None) -> None:
         """Keep a worker's results for ``path`` (and put them in the cache). ``header``
-        is the points' cache header the worker computed (:func:`~urdfinertia.cache.
-        library.points_header`); computed here only when it is missing."""
+        is the points' cache header the worker computed
+        (:func:`~urdfinertia.cache.library.points_header`); computed here only when it is
+        missing."""
         if outcome is not None:
             self.meshes[path] = outcome
         if points is not None and path not in self.points:

@@ -125,8 +125,8 @@ def mesh_task(path: str, max_faces: int, solids: bool = True,
                          dict | None]:
     """Read one mesh file and integrate it (unless ``solids`` is False): (solids or the
     error, face count, stage times, its hull points or None when it cannot be read, and
-    their cache header with the hull's volume, :func:`~urdfinertia.cache.library.
-    points_header`).
+    their cache header with the hull's volume,
+    :func:`~urdfinertia.cache.library.points_header`).
 
     The points (:meth:`MeshLibrary.points`) come from the same reading, so no process
     reads the file again for the geometry checks; the hull's volume is computed here,
