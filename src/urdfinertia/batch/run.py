@@ -188,8 +188,9 @@ class _Run:
               points: np.ndarray | None, header: dict | None = None) -> None:
         """Keep a worker's results for ``path`` (and put them in the cache). ``header``
         is the points' cache header the worker computed
-        (:func:`~urdfinertia.cache.library.points_header`); computed here only when it is
-        missing."""
+        (:func:`~urdfinertia.cache.library.points_header`): this process runs no Qhull.
+        Without one (the worker failed after reading the points) the entry holds no
+        volume, and whoever needs it computes it."""
         if outcome is not None:
             self.meshes[path] = outcome
         if points is not None and path not in self.points:
@@ -197,13 +198,9 @@ class _Run:
             if header is not None:
                 self.point_headers[path] = header
             if self.cache is not None:
-                if header is None:
-                    from urdfinertia.cache.library import points_header
-
-                    header = self.point_headers[path] = points_header(points)
                 with self.times.stage("cache"):
                     self.cache.store_arrays(self.keys.get(path), "points",
-                                            {**header, "faces": faces}, points)
+                                            {**(header or {}), "faces": faces}, points)
         if outcome is not None and self.cache is not None:
             with self.times.stage("cache"):
                 self.cache.store_mesh(self.keys.get(path), path, outcome, faces)

@@ -149,8 +149,7 @@ def mesh_task(path: str, max_faces: int, solids: bool = True,
             mesh = meshlib.load_mesh(path, max_faces)
         faces = len(mesh.faces)
         with times.stage("assemble"):
-            points = meshlib.points_of(mesh)
-            header = meshlib.points_header(points)
+            header, points = meshlib.points_entry(mesh)
         if not solids:
             return None, faces, times, points, header
         return meshlib.integrate_mesh(mesh, times), faces, times, points, header

@@ -85,7 +85,9 @@ def points_of(mesh: TriangleMesh) -> np.ndarray:
     return hull_points(mesh.vertices[used_vertices(len(mesh.vertices), mesh.faces)])
 
 
-def _points_entry(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
+def points_entry(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
+    """The "points" cache entry of ``mesh``: its header (:func:`points_header`) and its
+    :func:`points_of`."""
     points = points_of(mesh)
     return points_header(points), points
 
@@ -320,7 +322,7 @@ class MeshLibrary:
         key = self._key(path)
         found = self._points.get(key)
         if found is None:
-            header, numbers, _ = self._derived(key, "points", _points_entry,
+            header, numbers, _ = self._derived(key, "points", points_entry,
                                                lambda h, x: len(x) % 3 == 0)
             found = self._points[key] = numbers.reshape(-1, 3)
             known, volume = _stored_volume(header)
