@@ -116,7 +116,7 @@ def child_tool(robots: Path, out: Path, jobs: int, cache_dir: Path) -> dict:
     try:
         from urdfinertia.batch.inputs import collect_jobs
         from urdfinertia.batch.run import BatchSettings, run_batch
-        from urdfinertia.link.options import FixOptions
+        from urdfinertia.body.options import FixOptions
     except ImportError:  # a revision before the subpackage layout (--against)
         from urdfinertia.batch_inputs import collect_jobs  # type: ignore[no-redef]
         from urdfinertia.fix import FixOptions  # type: ignore[no-redef]

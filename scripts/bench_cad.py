@@ -18,7 +18,7 @@ mass and principal moments to 6 digits).
      the CAD mass (MJCF files only; bodies MuJoCo gives mass).
 
 ``--calibrate`` fits the 80th percentile of the error per kind of geometry, role and
-centroid-to-CoM offset bin (the constants of ``urdfinertia.link.errorbar``), with the
+centroid-to-CoM offset bin (the constants of ``urdfinertia.body.errorbar``), with the
 coverage of each package under bands fitted on the other packages (leave one package
 out), then on all packages.
 
@@ -41,13 +41,8 @@ from pathlib import Path
 import numpy as np
 
 from urdfinertia.analysis.check import check_robot
-from urdfinertia.cache.library import MeshLibrary, mesh_library
-from urdfinertia.descriptions.formats import read_description
-from urdfinertia.descriptions.inertial import RawInertial
-from urdfinertia.descriptions.model import Link, Robot
-from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link import geometry_choice
-from urdfinertia.link.errorbar import (
+from urdfinertia.body import geometry_choice
+from urdfinertia.body.errorbar import (
     BAND_LEVEL,
     BANDS,
     DENSE,
@@ -58,8 +53,13 @@ from urdfinertia.link.errorbar import (
     lookup_band,
     offset_bin,
 )
-from urdfinertia.link.fix import fix_robot
-from urdfinertia.link.options import FixOptions, select_geometry, weighable
+from urdfinertia.body.options import FixOptions, select_geometry, weighable
+from urdfinertia.cache.library import MeshLibrary, mesh_library
+from urdfinertia.descriptions.formats import read_description
+from urdfinertia.descriptions.inertial import RawInertial
+from urdfinertia.descriptions.model import Link, Robot
+from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.plan.fix import fix_robot
 
 FORMATS = ("urdf", "sdf", "mjcf")
 #: Fewer samples than this in a (kind, role, bin) cell: the cell takes its kind's band.
@@ -239,8 +239,8 @@ def _dump_candidates(package: str, path: Path, robot: Robot, withheld: dict,
     """Each sample's candidate geometries, their features and errors (for tuning)."""
     import json
 
-    from urdfinertia.link.assemble import assemble
-    from urdfinertia.link.mass import MassSource
+    from urdfinertia.body.assemble import assemble
+    from urdfinertia.body.mass import MassSource
 
     base = path.parent
     rows = []
@@ -273,7 +273,7 @@ def _dump_candidates(package: str, path: Path, robot: Robot, withheld: dict,
 
 
 def _box(refs: tuple, meshes: MeshLibrary, base: Path) -> tuple | None:
-    from urdfinertia.link.bounds import BoundsCache, link_bounds
+    from urdfinertia.body.bounds import BoundsCache, link_bounds
 
     try:
         return link_bounds(refs, BoundsCache(meshes), base)

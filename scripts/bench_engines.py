@@ -26,6 +26,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from support.corpus import example_robot_data_dir  # noqa: E402
 
+from urdfinertia.body.options import FixOptions  # noqa: E402
 from urdfinertia.cache.library import MeshLibrary  # noqa: E402
 from urdfinertia.descriptions.formats import read_description  # noqa: E402
 from urdfinertia.engines.run import (  # noqa: E402
@@ -37,8 +38,7 @@ from urdfinertia.engines.run import (  # noqa: E402
     stable,
 )
 from urdfinertia.errors import UrdfInertiaError  # noqa: E402
-from urdfinertia.link.fix import fix_file  # noqa: E402
-from urdfinertia.link.options import FixOptions  # noqa: E402
+from urdfinertia.plan.fix import fix_file  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -35,9 +35,9 @@ from pathlib import Path
 
 import numpy as np
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 
 def _mujoco():

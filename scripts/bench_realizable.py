@@ -37,19 +37,19 @@ sys.path.insert(0, str(ROOT / "tests"))
 from support.corpus import robot_packages  # noqa: E402
 
 from urdfinertia.analysis.check import check_description  # noqa: E402
-from urdfinertia.analysis.hull import convex_hull, hull_scale  # noqa: E402
-from urdfinertia.analysis.realizability import (  # noqa: E402
-    SCALE_ERROR,
-    SCALE_WARN,
-    geometry_points,
-    link_realizability,
-)
+from urdfinertia.body.bounds import BoundsCache  # noqa: E402
+from urdfinertia.body.hull import convex_hull, hull_scale  # noqa: E402
 from urdfinertia.cache.library import mesh_library  # noqa: E402
 from urdfinertia.descriptions.formats import read_description  # noqa: E402
 from urdfinertia.descriptions.inertial import RawInertial  # noqa: E402
 from urdfinertia.errors import UrdfInertiaError  # noqa: E402
 from urdfinertia.inertia.realizable import bounding_ellipsoid  # noqa: E402
-from urdfinertia.link.bounds import BoundsCache  # noqa: E402
+from urdfinertia.judge.realizability import (  # noqa: E402
+    SCALE_ERROR,
+    SCALE_WARN,
+    geometry_points,
+    link_realizability,
+)
 
 
 def main(argv: list[str] | None = None) -> int:

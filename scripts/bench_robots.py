@@ -26,11 +26,11 @@ import tempfile
 from collections import Counter
 from pathlib import Path
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import relocate_references
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 ENGINES = ("pinocchio", "mujoco", "pybullet")
 #: Loads each path given on stdin (JSON list) in each engine; prints {path: {engine: ok}}.

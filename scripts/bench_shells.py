@@ -10,7 +10,7 @@ tests/link/test_shell_*.py assert them).
 For every link of the printed arms and legs in the gathered corpus (mani-skill's SO-100
 and Koch arms, upkie's legs), each visual drawn in the printed parts' colour is taken as
 a PLA part (1240 kg/m^3) and computed three ways: solid, and as a shell of ``--wall`` m
-with ``--infill`` (the spec's ``shell``/``infill``, :func:`urdfinertia.link.parts.shell_solids`).
+with ``--infill`` (the spec's ``shell``/``infill``, :func:`urdfinertia.body.parts.shell_solids`).
 The other visuals of the link (servos, bearings) are listed by volume only. The table
 also gives the density the written mass implies if the whole link (all its visuals) were
 one material: a CAD export with one material everywhere shows the same figure on every
@@ -30,10 +30,10 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from support.corpus import robot_packages  # noqa: E402
 
+from urdfinertia.body.materials import material_density  # noqa: E402
+from urdfinertia.body.parts import Walls, shape_solids, shell_solids  # noqa: E402
 from urdfinertia.cache.library import mesh_library  # noqa: E402
 from urdfinertia.descriptions.formats import read_description  # noqa: E402
-from urdfinertia.link.materials import material_density  # noqa: E402
-from urdfinertia.link.parts import Walls, shape_solids, shell_solids  # noqa: E402
 
 PLA = material_density("PLA", {})
 #: (corpus package, description file name, package:// name and its folder relative to
@@ -60,8 +60,8 @@ def closed_forms(t: float) -> None:
     import numpy as np
     import trimesh
 
+    from urdfinertia.body.shell_voxels import voxel_shell
     from urdfinertia.inertia import shell
-    from urdfinertia.link.shell_voxels import voxel_shell
 
     def sphere(r: float) -> float:
         return 4 / 3 * np.pi * (r**3 - (r - t) ** 3)
@@ -98,7 +98,7 @@ def closed_forms(t: float) -> None:
 
 def grids(t: float) -> None:
     """The voxel estimate of real parts (whose exact offset is refused) on finer grids."""
-    from urdfinertia.link import shell_voxels
+    from urdfinertia.body import shell_voxels
     from urdfinertia.mesh.read.load import load_mesh
     from urdfinertia.mesh.repair.pipeline import repair_mesh
 

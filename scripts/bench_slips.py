@@ -6,7 +6,7 @@ the default policy keeps as plausible, with geometry, is a CAD sample (de-duplic
 robots and mirror twins: same mass and principal moments to 6 digits). Into each sample one
 slip of each class is planted (a seeded random variant: which entry, which power of ten,
 which direction) and the link judged again as ``check`` and ``fix`` do
-(:func:`urdfinertia.link.policy.decide_link`). Printed per class:
+(:func:`urdfinertia.plan.policy.decide_link`). Printed per class:
 
 - right: an edit is proposed and gives back the CAD values (mass, CoM, tensor to 1e-9);
 - wrong: an edit is proposed that does not (target: below 2 % of the planted slips);
@@ -37,6 +37,8 @@ from pathlib import Path
 
 import numpy as np
 
+from urdfinertia.body.bounds import BoundsCache
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
@@ -44,11 +46,9 @@ from urdfinertia.descriptions.kinematics import Kinematics
 from urdfinertia.descriptions.model import Inertial, Link, Origin, Robot
 from urdfinertia.inertia.rotation import rpy_matrix
 from urdfinertia.inertia.slips import SLIP_CLASSES, decimal_shift
-from urdfinertia.link.bounds import BoundsCache
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.policy import Decision, decide_link
-from urdfinertia.link.results import Action
-from urdfinertia.link.slips import find_slip
+from urdfinertia.judge.slips import find_slip
+from urdfinertia.plan.policy import Decision, decide_link
+from urdfinertia.plan.results import Action
 
 OUTCOMES = ("right", "wrong", "none, not flagged", "none, unclear")
 
@@ -234,7 +234,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def list_twins(max_files: int, markdown: bool) -> int:
     """Every copy and mirror-twin finding over the corpus (robots de-duplicated by name)."""
-    from urdfinertia.analysis.twins import twin_findings
+    from urdfinertia.judge.twins import twin_findings
 
     meshes, seen, rows, robots = MeshLibrary(), set(), [], 0
     for package, files in packages(max_files).items():

@@ -165,8 +165,8 @@ def child_meshes(robots: Path) -> dict:
     the geometry checks read of every checked mesh (collision and visual)."""
     from urdfinertia.batch.inputs import collect_jobs
     from urdfinertia.batch.tasks import mesh_needs
+    from urdfinertia.body.options import FixOptions
     from urdfinertia.cache.library import integrate_mesh, points_of
-    from urdfinertia.link.options import FixOptions
     from urdfinertia.mesh.read.load import load_mesh
     from urdfinertia.timing import StageTimes
 

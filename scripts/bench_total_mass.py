@@ -22,9 +22,9 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from support.corpus import robot_packages  # noqa: E402
 
+from urdfinertia.body.options import FixOptions  # noqa: E402
 from urdfinertia.errors import UrdfInertiaError  # noqa: E402
-from urdfinertia.link.fix import fix_file  # noqa: E402
-from urdfinertia.link.options import FixOptions  # noqa: E402
+from urdfinertia.plan.fix import fix_file  # noqa: E402
 
 PANDA_DATASHEET_KG = 18.0  # Franka Emika Panda arm, "approx. 18 kg"
 

@@ -97,14 +97,14 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
 
     from urdfinertia.analysis.check import check_robot
+    from urdfinertia.body.options import FixOptions
     from urdfinertia.cache.library import MeshLibrary
     from urdfinertia.descriptions.formats import read_description
     from urdfinertia.descriptions.xacro import expansion
     from urdfinertia.descriptions.xacro.expand import current_settings, expand_xacro
     from urdfinertia.descriptions.xacro.writeback import plan_write_back
     from urdfinertia.errors import UrdfInertiaError
-    from urdfinertia.link.fix import fix_robot
-    from urdfinertia.link.options import FixOptions
+    from urdfinertia.plan.fix import fix_robot
 
     if args.inputs:
         files = inputs(args.inputs)

@@ -33,7 +33,7 @@ def referenced_meshes(robots: Path) -> list[Path]:
     """Every mesh ``fix --all`` and the geometry checks read from ``robots``."""
     from urdfinertia.batch.inputs import collect_jobs
     from urdfinertia.batch.tasks import mesh_needs
-    from urdfinertia.link.options import FixOptions
+    from urdfinertia.body.options import FixOptions
 
     options = FixOptions(recompute="all")
     found: dict[Path, None] = {}

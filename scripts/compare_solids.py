@@ -107,7 +107,7 @@ def referenced_meshes(robots: Path) -> list[Path]:
     sys.path.insert(0, str(ROOT / "src"))
     from urdfinertia.batch.inputs import collect_jobs
     from urdfinertia.batch.tasks import mesh_needs
-    from urdfinertia.link.options import FixOptions
+    from urdfinertia.body.options import FixOptions
 
     options = FixOptions(recompute="all")  # --all: every link's collisions and visuals
     found: dict[Path, None] = {}

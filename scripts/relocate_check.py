@@ -19,9 +19,9 @@ from pathlib import Path
 
 import mujoco
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from support.corpus import mjcf_models_with_paths  # noqa: E402

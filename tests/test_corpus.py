@@ -11,12 +11,12 @@ from pathlib import Path
 import pytest
 from support.diffs import assert_only_inertials_differ
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.paths import resolve_mesh_path
 from urdfinertia.errors import MeshError, UrdfInertiaError
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 pytestmark = pytest.mark.corpus
 
@@ -82,7 +82,7 @@ def test_whole_collection(erd_dir, tmp_path):
 def test_default_fix_keeps_clean_robots_and_total_masses(erd_dir):
     from urdfinertia.analysis.check import check_robot
     from urdfinertia.descriptions.formats import read_description
-    from urdfinertia.link.apply import mass_change
+    from urdfinertia.plan.apply import mass_change
 
     meshes = MeshLibrary({"example-robot-data": erd_dir})
     clean = 0

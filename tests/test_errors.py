@@ -6,8 +6,8 @@ import pytest
 
 from urdfinertia.descriptions.paths import resolve_mesh_path
 from urdfinertia.errors import MeshError, OutputError, UrdfError
-from urdfinertia.link.fix import problem_code
 from urdfinertia.mesh.read.load import load_mesh
+from urdfinertia.plan.fix import problem_code
 
 
 def test_class_default_and_instance_override():

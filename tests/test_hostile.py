@@ -596,7 +596,7 @@ def test_output_same_as_input_refused(workdir, capsys):
 
 
 def test_spec_that_does_not_parse(workdir, capsys):
-    pytest.importorskip("urdfinertia.link.spec")
+    pytest.importorskip("urdfinertia.body.spec")
     spec = workdir / "spec.toml"
     spec.write_text("[link.base\nmass = ")
     expect_refusal(workdir, workdir / "r.urdf", capsys, "spec.toml", "TOML",

@@ -9,10 +9,10 @@ import pytest
 from support.corpus import example_robot_data_dir
 
 import urdfinertia
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cli import main
 from urdfinertia.descriptions.formats import read_description
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.results import Action, Status
+from urdfinertia.plan.results import Action, Status
 from urdfinertia.render.report import collect
 
 pytestmark = pytest.mark.corpus

@@ -20,11 +20,11 @@ import urdfinertia
 from urdfinertia.analysis.check import check_description
 from urdfinertia.analysis.compare import compare_with_geometry
 from urdfinertia.analysis.explain import explain_link
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import read_description, robot_from_bytes
-from urdfinertia.link.fix import fix_robot
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.results import Action, LinkResult, Status
+from urdfinertia.plan.fix import fix_robot
+from urdfinertia.plan.results import Action, LinkResult, Status
 from urdfinertia.render.report import collect
 
 pytestmark = pytest.mark.corpus

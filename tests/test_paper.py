@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from urdfinertia.body.options import FixOptions
+from urdfinertia.body.spec import load_spec
 from urdfinertia.descriptions.urdf.read import read_urdf
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.spec import load_spec
+from urdfinertia.plan.fix import fix_file
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Closed forms and sums of a few terms: only floating-point round-off separates the tool

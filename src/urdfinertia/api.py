@@ -2,7 +2,7 @@
 
 Each takes a description's path and the command line's options as keyword arguments with
 the command line's defaults, and returns typed objects: the same per-link verdicts
-(:class:`~urdfinertia.link.results.LinkResult`) every command renders. The command line
+(:class:`~urdfinertia.plan.results.LinkResult`) every command renders. The command line
 is a thin shell over the same functions, so the answers agree link by link::
 
     import urdfinertia
@@ -10,13 +10,13 @@ is a thin shell over the same functions, so the answers agree link by link::
     result = urdfinertia.fix("robot.urdf", density=1200.0)
     print(result.recomputed, [r.status for r in result.links])
 
-Options (:class:`~urdfinertia.link.options.FixOptions`): ``geometry`` ("auto",
+Options (:class:`~urdfinertia.body.options.FixOptions`): ``geometry`` ("auto",
 "collision", "visual"), ``mass`` ("keep", "density"), ``density`` (kg/m^3),
 ``package_dirs`` (package name -> folder), ``max_faces``, ``spec`` (a path or a loaded
 spec), ``strict``, ``keep_auto``, ``recompute`` ("needed", "all", "links") and ``links``;
 for xacro input also ``xacro_args`` (NAME -> VALUE, as ``--xacro-arg NAME:=VALUE``).
 A fixed xacro robot is written back into its sources with
-:func:`~urdfinertia.link.save.write_back`.
+:func:`~urdfinertia.plan.save.write_back`.
 This module may import every layer below the command line.
 """
 
@@ -32,8 +32,8 @@ if TYPE_CHECKING:
     from urdfinertia.analysis.check import CheckResult
     from urdfinertia.analysis.compare import LinkComparison
     from urdfinertia.analysis.explain import Breakdown
-    from urdfinertia.link.options import FixOptions
-    from urdfinertia.link.results import FixResult
+    from urdfinertia.body.options import FixOptions
+    from urdfinertia.plan.results import FixResult
     from urdfinertia.render.report import ReportData
 
 
@@ -61,8 +61,8 @@ def make_options(**options: Any) -> FixOptions:
     a mapping of names to folders given as strings or paths."""
     import dataclasses
 
-    from urdfinertia.link.options import FixOptions
-    from urdfinertia.link.spec import load_spec
+    from urdfinertia.body.options import FixOptions
+    from urdfinertia.body.spec import load_spec
 
     known = [f.name for f in dataclasses.fields(FixOptions)]
     unknown = [name for name in options if name not in known]
@@ -105,7 +105,7 @@ def check(path: str | Path, *, geometry: bool = True, statics: bool = True,
     from urdfinertia.analysis.check import check_description
     from urdfinertia.analysis.statics import DEFAULT_MARGIN
     from urdfinertia.descriptions.formats import read_description
-    from urdfinertia.link.total_mass import DEFAULT_MASS_TOLERANCE
+    from urdfinertia.plan.total_mass import DEFAULT_MASS_TOLERANCE
 
     opts = make_options(**options)
     robot, _ = read_description(path, lenient=True)
@@ -126,7 +126,7 @@ def fix(path: str | Path, **options: Any) -> FixResult:
     masses so that the robot weighs KG (``scale_kept=True``: every mass); ``result.targets``
     says before, target and after (``fix --total-mass``, ``--scale-kept``).
     """
-    from urdfinertia.link.fix import fix_file
+    from urdfinertia.plan.fix import fix_file
 
     return fix_file(path, make_options(**options))
 

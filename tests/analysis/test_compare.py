@@ -18,10 +18,10 @@ from urdfinertia.analysis.compare import (
     principal_axis_angle,
     summary,
 )
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cli import main
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.inertia.rotation import rpy_matrix
-from urdfinertia.link.options import FixOptions
 from urdfinertia.render.compare_plot import error_series, plot_errors
 
 

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from urdfinertia.analysis.explain import explain_link
+from urdfinertia.body.options import FixOptions
+from urdfinertia.body.spec import load_spec
 from urdfinertia.cli import main
 from urdfinertia.descriptions.urdf.read import read_urdf
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.spec import load_spec
+from urdfinertia.plan.fix import fix_file
 
 ROOT = Path(__file__).resolve().parents[2]
 NM7MAR, NM7MAR_SPEC = ROOT / "robots" / "nm7mar.urdf", ROOT / "robots" / "nm7mar.inertia.toml"

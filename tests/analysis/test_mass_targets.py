@@ -14,10 +14,10 @@ from pathlib import Path
 import pytest
 
 import urdfinertia
+from urdfinertia.body.options import FixOptions
+from urdfinertia.body.spec import parse_spec
 from urdfinertia.cli import main
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.spec import parse_spec
+from urdfinertia.plan.fix import fix_file
 
 ARM = Path(__file__).resolve().parents[1] / "data" / "total_mass" / "arm.urdf"
 
@@ -129,7 +129,7 @@ def test_published_total_before_and_after(tmp_path):
                                 geometry=False)
     assert not mismatches(written)
     from urdfinertia.descriptions.formats import read_description
-    from urdfinertia.link.total_mass import written_masses
+    from urdfinertia.plan.total_mass import written_masses
 
     robot, _ = read_description(out)
     assert sum(written_masses(robot).values()) == pytest.approx(ANYMAL_KG, rel=1e-9)

@@ -10,8 +10,8 @@ import trimesh
 from urdfinertia.batch.executors import ClusterError, connect_dask
 from urdfinertia.batch.inputs import collect_jobs
 from urdfinertia.batch.run import BatchSettings, run_batch
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cli import main
-from urdfinertia.link.options import FixOptions
 
 distributed = pytest.importorskip("distributed")
 

@@ -14,10 +14,10 @@ import trimesh
 from urdfinertia.batch import run as batch
 from urdfinertia.batch.inputs import FileJob, collect_jobs
 from urdfinertia.batch.run import BatchSettings, run_batch
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache import library as meshlib
 from urdfinertia.cli import main
 from urdfinertia.errors import OutputError, UrdfError
-from urdfinertia.link.options import FixOptions
 
 #: every link recomputed, any element problem fatal: the batch machinery under test
 STRICT_ALL = FixOptions(strict=True, recompute="all")

@@ -286,7 +286,7 @@ def test_a_warm_run_imports_no_numerical_or_terminal_library():
     code = ("import sys\n"
             "from urdfinertia.batch.run import BatchSettings, run_batch\n"
             "from urdfinertia.batch.inputs import collect_jobs\n"
-            "from urdfinertia.link.options import FixOptions\n"
+            "from urdfinertia.body.options import FixOptions\n"
             "import urdfinertia.cli, urdfinertia.cli.fix\n"
             "heavy = {'numpy', 'lxml', 'rich', 'trimesh', 'scipy', 'multiprocessing'}\n"
             "print(sorted(m for m in sys.modules if m.split('.')[0] in heavy))\n")

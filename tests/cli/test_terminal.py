@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from urdfinertia.cli import main
-from urdfinertia.link.results import LinkResult
+from urdfinertia.plan.results import LinkResult
 from urdfinertia.render.table import _notes
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))

@@ -13,14 +13,14 @@ from pathlib import Path
 
 import pytest
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.formats import NewInertial, format_of, read_description
 from urdfinertia.descriptions.mjcf.write import scan_bodies
 from urdfinertia.descriptions.sdf.write import link_nodes
 from urdfinertia.descriptions.splice import attribute_spans, child_tags, next_tag
 from urdfinertia.descriptions.urdf.write import scan_links
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from support.corpus import example_robot_data_dir  # noqa: E402
@@ -194,7 +194,7 @@ def test_urdf_rotated_origin_gets_zero_angles_with_a_derived_tensor(tmp_path):
 
 
 def test_repair_only_changes_only_the_tensor_text(tmp_path):
-    from urdfinertia.link.repair_only import repair_file
+    from urdfinertia.plan.repair_only import repair_file
 
     text = (b'<robot name="r"><link name="a"><inertial>\n'
             b'  <origin rpy="0 0 0" xyz="1.0517e-02 0 0"/>\n'

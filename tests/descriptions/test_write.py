@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 from support.diffs import assert_only_inertials_differ
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.urdf.read import robot_from_bytes
 from urdfinertia.descriptions.urdf.write import format_float, patch_inertials, scan_links
 from urdfinertia.inertia import primitives
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -204,9 +204,9 @@ def test_write_back_on_urdf_input_is_refused(tmp_path, capsys):
 
 
 def prepared(tmp_path: Path):
+    from urdfinertia.body.options import FixOptions
     from urdfinertia.descriptions.formats import read_description
-    from urdfinertia.link.fix import fix_robot
-    from urdfinertia.link.options import FixOptions
+    from urdfinertia.plan.fix import fix_robot
 
     root = tmp_path / "limbs"
     shutil.copytree(DATA / "limbs", root)

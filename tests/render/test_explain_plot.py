@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from urdfinertia.analysis.explain import explain_link
+from urdfinertia.body.options import FixOptions
+from urdfinertia.body.spec import load_spec
 from urdfinertia.cli import main
 from urdfinertia.descriptions.urdf.read import read_urdf
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.spec import load_spec
 from urdfinertia.render.explain_plot import plot_breakdown
 
 ROBOTS = Path(__file__).resolve().parents[2] / "robots"

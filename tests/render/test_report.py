@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from lxml import html as lxml_html
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cli import main
 from urdfinertia.inertia import primitives
-from urdfinertia.link.options import FixOptions
 from urdfinertia.render.compare_plot import error_series
 from urdfinertia.render.report import ERROR_PANELS, collect, error_figure, render_html, scene_figure
 

@@ -221,8 +221,8 @@ def _mass_difference(name: str, a: float, b: float, link: Link, robot: Robot) ->
 
 def _collision_volume(link: Link, robot: Robot) -> tuple[float | None, list[float]]:
     """Volume of a link's collision shapes (m^3), and the densities they state."""
+    from urdfinertia.body.parts import geometry_parts
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.link.parts import geometry_parts
 
     if not link.collisions:
         return None, []
@@ -242,8 +242,8 @@ def _derived_mass(link: Link, robot: Robot, refs: Any = None) -> float | None:
     """What an engine computes for a body without mass: each element's density (or the
     default) times its volume; None without shapes. ``refs``: the elements the format
     counts (MJCF's geoms), by default the collisions."""
+    from urdfinertia.body.parts import geometry_parts
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.link.parts import geometry_parts
 
     refs = link.collisions if refs is None else refs
     if not refs:

@@ -1,7 +1,7 @@
 """The ``check`` job: lint the inertials as written, per link, with a severity.
 
 ``check`` is ``fix``'s plan without writing: with geometry (the default) its findings are
-those of the links' verdicts (:func:`urdfinertia.link.fix.link_verdicts`), the very
+those of the links' verdicts (:func:`urdfinertia.plan.fix.link_verdicts`), the very
 objects ``fix`` carries out, so what ``check`` says ``fix`` would recompute is what ``fix``
 recomputes. The link's geometry is read for the checks that need it: CoM inside the
 geometry's bounding box, implied density, and the tensor's size against what the geometry
@@ -22,9 +22,6 @@ from pathlib import Path
 
 import numpy as np
 
-# Findings and their rule ids, and the per-link rules, live one layer down, where
-# ``fix``'s policy uses them too.
-from urdfinertia.analysis.realizability import robot_realizability
 from urdfinertia.analysis.statics import (
     DEFAULT_MARGIN,
     Statics,
@@ -33,21 +30,20 @@ from urdfinertia.analysis.statics import (
     verdict_bodies,
     written_bodies,
 )
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
 from urdfinertia.descriptions.model import Robot
-from urdfinertia.inertia.massprops import MassProperties, combine
-from urdfinertia.link.findings import (  # noqa: F401  (re-exported: check's API)
+from urdfinertia.findings import (  # noqa: F401  (re-exported: check's API)
     RULES,
     SEVERITIES,
     Finding,
     Rule,
     rule_of,
 )
-from urdfinertia.link.fix import link_verdicts
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.plausibility import (  # noqa: F401  (re-exported: check's API)
+from urdfinertia.inertia.massprops import MassProperties, combine
+from urdfinertia.judge.plausibility import (  # noqa: F401  (re-exported: check's API)
     ABSURD_MASS,
     ABSURD_MOMENT,
     COM_OUTSIDE_ERROR,
@@ -58,8 +54,13 @@ from urdfinertia.link.plausibility import (  # noqa: F401  (re-exported: check's
     reference_findings,
     value_findings,
 )
-from urdfinertia.link.results import LinkResult, Status
-from urdfinertia.link.total_mass import (
+
+# Findings and their rule ids, and the per-link rules, live one layer down, where
+# ``fix``'s policy uses them too.
+from urdfinertia.judge.realizability import robot_realizability
+from urdfinertia.plan.fix import link_verdicts
+from urdfinertia.plan.results import LinkResult, Status
+from urdfinertia.plan.total_mass import (
     DEFAULT_MASS_TOLERANCE,
     MassTargetError,
     mass_targets,
@@ -161,7 +162,7 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
             findings.extend(r.findings)
             findings.extend(f for f in realizing if f.link == r.name)
         if options.slips:  # what the author meant, across links: copies and twins
-            from urdfinertia.analysis.twins import twin_findings
+            from urdfinertia.judge.twins import twin_findings
 
             findings.extend(twin_findings(robot, meshes, options, urdf_dir))
     else:

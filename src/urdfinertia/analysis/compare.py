@@ -39,16 +39,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+#: Principal moments closer than this fraction of the largest count as equal (degenerate).
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.link.fix import fix_robot, link_verdicts
-
-#: Principal moments closer than this fraction of the largest count as equal (degenerate).
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.policy import every_link
-from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.plan.fix import fix_robot, link_verdicts
+from urdfinertia.plan.policy import every_link
+from urdfinertia.plan.results import FixResult, LinkResult
 
 #: Moments within a few percent give axes that swing with any perturbation of that size.
 DEGENERATE_RTOL = 0.05
@@ -78,7 +77,7 @@ class LinkComparison:
     size: float | None = None  # the length L used by com_distance_rel, m
     moments_a: np.ndarray | None = None  # principal moments ascending, even when invalid
     moments_b: np.ndarray | None = None
-    #: what ``fix`` would do with the link (:mod:`urdfinertia.link.policy`); geometry only
+    #: what ``fix`` would do with the link (:mod:`urdfinertia.plan.policy`); geometry only
     decision: str = ""
     #: the link's verdict under the default policy (geometry only)
     fix: LinkResult | None = None

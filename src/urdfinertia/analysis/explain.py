@@ -7,7 +7,7 @@ link: ``e_k^T I_p,s e_k / lambda_k`` for the link's principal axes e_k and momen
 lambda_k. Since ``sum_p I_p,s = I_s`` (eq. 44), the shares of all elements add up to 1 on
 every axis. Cavities have negative mass and negative shares.
 
-The link's total is what ``fix`` writes (its verdict, :func:`urdfinertia.link.fix.link_verdict`):
+The link's total is what ``fix`` writes (its verdict, :func:`urdfinertia.plan.fix.link_verdict`):
 the kept CoM where ``fix`` keeps it, the written values of a link ``fix`` keeps. The
 elements are the geometry's homogeneous model, taken about the geometry's own centroid
 (where eq. 44 holds), whatever ``fix`` decided.
@@ -26,17 +26,17 @@ from typing import Any
 
 import numpy as np
 
+from urdfinertia.body.assemble import PartResult
+from urdfinertia.body.geometry_choice import GeometryChoice
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.model import Robot
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties, combine
-from urdfinertia.link.assemble import PartResult
-from urdfinertia.link.compute import compute_link
-from urdfinertia.link.fix import link_verdict
-from urdfinertia.link.geometry_choice import GeometryChoice
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.policy import every_link
-from urdfinertia.link.results import LinkResult
+from urdfinertia.plan.compute import compute_link
+from urdfinertia.plan.fix import link_verdict
+from urdfinertia.plan.policy import every_link
+from urdfinertia.plan.results import LinkResult
 
 
 @dataclass(frozen=True, eq=False)

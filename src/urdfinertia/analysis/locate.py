@@ -20,8 +20,8 @@ from pathlib import Path
 
 from urdfinertia.analysis.check import Finding
 from urdfinertia.descriptions.model import Robot
-from urdfinertia.link.results import LinkResult
-from urdfinertia.link.slips import TextEdit
+from urdfinertia.plan.edits import TextEdit
+from urdfinertia.plan.results import LinkResult
 
 #: Element names that carry a link's name in the registered formats (URDF/SDF ``link``,
 #: MJCF ``body``).

@@ -20,7 +20,7 @@ that joint's (the actuator holds both), and it gets no verdict of its own.
 
 Masses and CoMs are the values ``fix`` writes (the links' verdicts), or the written ones
 without geometry. A link whose mass or CoM ``fix`` derives carries a relative band
-(its verdict's error bar, see :mod:`urdfinertia.link.errorbar`; :data:`DERIVED_BAND` when it
+(its verdict's error bar, see :mod:`urdfinertia.body.errorbar`; :data:`DERIVED_BAND` when it
 has none) into the torque: each link's contribution is taken at ``1 +- band``.
 """
 
@@ -33,9 +33,9 @@ import numpy as np
 
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import Joint, Robot
+from urdfinertia.findings import Finding
 from urdfinertia.inertia.rotation import pose_matrix
-from urdfinertia.link.findings import Finding
-from urdfinertia.link.results import LinkResult
+from urdfinertia.plan.results import LinkResult
 
 GRAVITY = 9.81
 #: needed torque above (1 - margin) x effort: warning

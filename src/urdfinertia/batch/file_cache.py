@@ -29,11 +29,11 @@ import os
 from pathlib import Path
 from typing import TypeGuard
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.store import SolidsCache, key_from_digest
 from urdfinertia.cache.version import code_digest
 from urdfinertia.descriptions.paths import RealPaths, resolve_mesh_path
 from urdfinertia.errors import MeshError
-from urdfinertia.link.options import FixOptions
 from urdfinertia.mesh.limits import max_mesh_bytes
 
 FILES_FORMAT = "urdfinertia-file-result/3"

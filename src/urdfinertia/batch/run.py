@@ -1,7 +1,7 @@
 """Fix many URDFs in one run: inputs, worker processes or a Dask cluster, one outcome each.
 
 The unit of work is one file (:func:`.tasks.fix_file_task`, which calls
-:func:`urdfinertia.link.fix.fix_robot`).
+:func:`urdfinertia.plan.fix.fix_robot`).
 With workers, each distinct mesh file is first read and integrated exactly once (largest
 first, results from the persistent cache when it has them), then every URDF is fixed by a
 worker with its meshes' results handed over. The parent process alone reads and writes the
@@ -31,9 +31,9 @@ from urdfinertia.batch.tasks import (
     mesh_needs,
     mesh_task,
 )
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.store import DEFAULT_MAX_BYTES, SolidsCache
 from urdfinertia.errors import MeshError, OutputError, UrdfInertiaError
-from urdfinertia.link.options import FixOptions
 from urdfinertia.timing import StageTimes
 
 if TYPE_CHECKING:

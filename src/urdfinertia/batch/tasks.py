@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.options import FixOptions
 from urdfinertia.timing import StageTimes
 
 if TYPE_CHECKING:
@@ -29,11 +29,8 @@ if TYPE_CHECKING:
 def load_compute_modules() -> None:
     """Import what computes (numpy, lxml, the mesh readers) before any stage is timed, so
     that stage times do not include imports."""
-    import urdfinertia.cache.library
-    import urdfinertia.descriptions.urdf.read
-    import urdfinertia.descriptions.urdf.write
-    import urdfinertia.link.assemble
-    import urdfinertia.link.parts  # noqa: F401
+    import urdfinertia.body.assemble
+    import urdfinertia.body.parts  # noqa: F401
 
 
 
@@ -85,10 +82,10 @@ def mesh_needs(source: Path, options: FixOptions) -> tuple[list[Path], list[Path
 
     Problems are ignored here: the file's own task reports them in context.
     """
+    from urdfinertia.body.options import select_geometry
     from urdfinertia.descriptions.formats import read_description
     from urdfinertia.descriptions.model import Mesh
     from urdfinertia.descriptions.paths import resolve_mesh_path
-    from urdfinertia.link.options import select_geometry
 
     try:
         robot, _ = read_description(source)
@@ -161,7 +158,7 @@ def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
                      details: bool = False) -> FileOutcome:
     """Fix one file with ``meshes``; any failure becomes the outcome's one-line error."""
     from urdfinertia.descriptions.formats import read_bytes, robot_from_bytes
-    from urdfinertia.link.fix import fix_robot
+    from urdfinertia.plan.fix import fix_robot
 
     times = StageTimes()
     before = dict(meshes.timer.seconds)

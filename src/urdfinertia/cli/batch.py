@@ -16,10 +16,10 @@ from typing import TYPE_CHECKING, Any, TextIO
 from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.batch.inputs import collect_jobs
 from urdfinertia.batch.run import BatchReport, BatchSettings, prepared_library, run_batch
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.store import DEFAULT_MAX_BYTES, ENV_VAR
 from urdfinertia.cli.options import positive_int
 from urdfinertia.errors import OutputError
-from urdfinertia.link.options import FixOptions
 from urdfinertia.mesh.limits import BUDGET_ENV_VAR, DEFAULT_MESH_SECONDS
 from urdfinertia.timing import StageTimes
 

@@ -27,9 +27,9 @@ from rich.table import Table
 from urdfinertia.analysis.baseline import Baseline, write_baseline
 from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
 from urdfinertia.analysis.locate import CheckedFile, locate_all
-from urdfinertia.analysis.realizability import METHODS
 from urdfinertia.analysis.statics import DEFAULT_MARGIN
 from urdfinertia.atomic import atomic_write_bytes
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cli.batch import add_batch_arguments, finish_single, single_file_library
 from urdfinertia.cli.options import (
     add_engine_arguments,
@@ -39,9 +39,9 @@ from urdfinertia.cli.options import (
 )
 from urdfinertia.descriptions.formats import is_description, read_bytes, robot_from_bytes
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.slips import slip_fixes
-from urdfinertia.link.total_mass import DEFAULT_MASS_TOLERANCE
+from urdfinertia.judge.realizability import METHODS
+from urdfinertia.plan.edits import slip_fixes
+from urdfinertia.plan.total_mass import DEFAULT_MASS_TOLERANCE
 from urdfinertia.render.annotations import annotation_lines
 from urdfinertia.render.sarif import sarif_document
 
@@ -131,7 +131,7 @@ def unverified_unknown(cf: CheckedFile) -> bool:
 def run(args: argparse.Namespace) -> int:
     spec = None
     if args.spec is not None:
-        from urdfinertia.link.spec import load_spec
+        from urdfinertia.body.spec import load_spec
 
         spec = load_spec(args.spec)
     if args.total_mass is not None and len(args.urdf) > 1:  # a datasheet's figure: one robot

@@ -30,7 +30,7 @@ from urdfinertia.cli.options import (
 )
 from urdfinertia.cli.outcome import fix_exit_code, left_lines, problem_lines
 from urdfinertia.errors import OutputError, UrdfInertiaError
-from urdfinertia.link.fix import fix_file
+from urdfinertia.plan.fix import fix_file
 
 # rich (tables) and the JSON writer are imported when they are used: a quiet batch run
 # whose results are all cached needs neither.
@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
             "not printing the fixed document on the terminal: write it with -o FILE (or "
             "--in-place), or redirect it: urdf-inertia fix ROBOT > FILE", file=args.urdf)
     if getattr(args, "repair_only", False):
-        from urdfinertia.link.repair_only import repair_file
+        from urdfinertia.plan.repair_only import repair_file
 
         if is_batch(args):
             raise UrdfInertiaError("--repair-only takes a single URDF file")

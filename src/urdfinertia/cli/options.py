@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from urdfinertia.link.options import GEOMETRY_MODES, MASS_MODES, FixOptions
+from urdfinertia.body.options import GEOMETRY_MODES, MASS_MODES, FixOptions
 from urdfinertia.mesh.limits import BYTES_PER_FACE, DEFAULT_MAX_FACES
 
 
@@ -87,7 +87,7 @@ def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def add_policy_arguments(p: argparse.ArgumentParser) -> None:
-    """Which links ``fix`` recomputes (urdfinertia.link.policy); default: the wrong ones."""
+    """Which links ``fix`` recomputes (urdfinertia.plan.policy); default: the wrong ones."""
     which = p.add_mutually_exclusive_group()
     which.add_argument("--all", action="store_true", dest="recompute_all",
                        help="recompute every link that has geometry (by default only links "
@@ -109,7 +109,7 @@ def recompute_from_args(args: argparse.Namespace) -> tuple[str, tuple[str, ...]]
 def options_from_args(args: argparse.Namespace) -> FixOptions:
     spec = None
     if getattr(args, "spec", None) is not None:
-        from urdfinertia.link.spec import load_spec
+        from urdfinertia.body.spec import load_spec
 
         spec = load_spec(args.spec)
     return FixOptions(

@@ -15,7 +15,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from urdfinertia.link.results import FixResult
+    from urdfinertia.plan.results import FixResult
 
 EXIT_OK = 0
 EXIT_PARTIAL = 1

@@ -34,7 +34,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from urdfinertia.link.policy import every_link
+    from urdfinertia.plan.policy import every_link
 
     options = options_from_args(args)
     # the meshes in parallel with -j: every link's, since the report's compare derives

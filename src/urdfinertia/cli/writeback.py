@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from urdfinertia.descriptions.xacro.writeback import Plan
-    from urdfinertia.link.results import FixResult
+    from urdfinertia.plan.results import FixResult
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -40,10 +40,10 @@ def wants_write_back(args: argparse.Namespace, result: FixResult) -> bool:
 
 def write_back(args: argparse.Namespace, result: FixResult) -> Plan:
     """Plan and apply the write-back of ``result`` (a fixed xacro robot): the library's
-    :func:`urdfinertia.link.save.write_back` with the command line's xacro settings."""
+    :func:`urdfinertia.plan.save.write_back` with the command line's xacro settings."""
     from urdfinertia.descriptions.xacro.settings import current_settings
     from urdfinertia.errors import UrdfInertiaError
-    from urdfinertia.link.save import write_back as write_sources
+    from urdfinertia.plan.save import write_back as write_sources
 
     if result.robot.format != "xacro":
         raise UrdfInertiaError("--write-back applies to xacro input (a URDF is fixed with "

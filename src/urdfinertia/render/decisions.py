@@ -7,8 +7,8 @@ from collections.abc import Sequence
 from rich.console import Console
 from rich.table import Table
 
-from urdfinertia.link.apply import mass_change
-from urdfinertia.link.results import Action, FixResult, LinkResult
+from urdfinertia.plan.apply import mass_change
+from urdfinertia.plan.results import Action, FixResult, LinkResult
 
 
 def link_notes(r: LinkResult, warnings: bool = True) -> list[str]:

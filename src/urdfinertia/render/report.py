@@ -20,13 +20,13 @@ import numpy as np
 from urdfinertia import __version__
 from urdfinertia.analysis.check import Finding, check_description
 from urdfinertia.analysis.compare import LinkComparison, compare_with_geometry, summary
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.link.fix import fix_robot
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.policy import every_link
-from urdfinertia.link.results import FixResult, LinkResult, Status
+from urdfinertia.plan.fix import fix_robot
+from urdfinertia.plan.policy import every_link
+from urdfinertia.plan.results import FixResult, LinkResult, Status
 from urdfinertia.render.compare_plot import error_series
 from urdfinertia.render.scene import (
     DEFAULT_VIEW_FACES,

@@ -7,10 +7,10 @@ from typing import Any
 import numpy as np
 
 from urdfinertia.descriptions.model import Problem
+from urdfinertia.findings import Finding
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.link.apply import mass_change
-from urdfinertia.link.findings import Finding
-from urdfinertia.link.results import FixResult, LinkResult
+from urdfinertia.plan.apply import mass_change
+from urdfinertia.plan.results import FixResult, LinkResult
 from urdfinertia.render.decisions import decision_dict
 
 

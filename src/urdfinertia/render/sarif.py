@@ -16,7 +16,7 @@ from pathlib import Path
 from urdfinertia import __version__
 from urdfinertia.analysis.check import RULES, Rule
 from urdfinertia.analysis.locate import CheckedFile
-from urdfinertia.link.slips import TextEdit
+from urdfinertia.plan.edits import TextEdit
 
 SARIF_SCHEMA = ("https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/"
                 "sarif-schema-2.1.0.json")

@@ -9,8 +9,8 @@ from rich.console import Console
 from rich.table import Table
 
 from urdfinertia.analysis.explain import Breakdown, Contribution, link_breakdown
-from urdfinertia.link.geometry_choice import KIND_WORDS
-from urdfinertia.link.results import LinkResult
+from urdfinertia.body.geometry_choice import KIND_WORDS
+from urdfinertia.plan.results import LinkResult
 from urdfinertia.render.decisions import link_notes
 
 

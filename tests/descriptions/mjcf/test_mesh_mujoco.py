@@ -9,8 +9,8 @@ import pytest
 import trimesh
 from support.mjcf import body_inertia, compiled
 
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.body.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 mujoco = pytest.importorskip("mujoco")
 

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from support.mjcf import body_inertia, compiled
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.formats import read_description
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 mujoco = pytest.importorskip("mujoco")
 

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.formats import read_description
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.results import Status
+from urdfinertia.plan.fix import fix_file
+from urdfinertia.plan.results import Status
 
 DATA = Path(__file__).parents[2] / "data" / "geometry"
 

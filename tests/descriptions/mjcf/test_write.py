@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from support.mjcf import body_inertia, compiled, strip_inertials
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.mjcf.write import scan_bodies
 from urdfinertia.errors import UrdfError
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 mujoco = pytest.importorskip("mujoco")
 

@@ -12,9 +12,9 @@ import pytest
 from support.drake_ref import drake_bodies, drake_fix_inertia, drake_python, drake_required
 from support.sdf import sdf_doc
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.sdf.read import robot_from_bytes
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 pytestmark = pytest.mark.skipif(drake_python() is None and not drake_required(),
                                 reason="pydrake not available (pip install drake)")

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from support.sdf import sdf_doc
 
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
-from urdfinertia.link.results import Status
+from urdfinertia.body.options import FixOptions
+from urdfinertia.plan.fix import fix_file
+from urdfinertia.plan.results import Status
 
 MODEL = """<model name="m">
   <link name="base"/>

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from support.sdf import sdf_doc, without_inertials
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.sdf.read import robot_from_bytes
-from urdfinertia.link.fix import fix_robot
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_robot
 
 RHO = 1000.0
 

@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from descriptions.usd.assets import DATA
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.model import Box, Capsule, Cone
 from urdfinertia.descriptions.usd.read import read
 from urdfinertia.descriptions.usd.write import override_path
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 ASSET = DATA / "handmade" / "instanced.usda"
 

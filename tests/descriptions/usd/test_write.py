@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from descriptions.usd.assets import copy, source
 
+from urdfinertia.body.options import FixOptions
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.usd.read import read, valid_identifier
 from urdfinertia.descriptions.usd.write import override_path
-from urdfinertia.link.fix import fix_file
-from urdfinertia.link.options import FixOptions
+from urdfinertia.plan.fix import fix_file
 
 # float32 MassAPI values: mass and CoM to ~6e-8, the tensor through a float32 quaternion
 # and diagonal to ~1e-7 of its largest moment; 1e-6 leaves a margin
