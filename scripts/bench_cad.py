@@ -181,7 +181,7 @@ def _err(got: np.ndarray, cad: np.ndarray) -> float:
 
 def run_file(package: str, path: Path, seen: set, meshes: MeshLibrary,
              ) -> tuple[list[Sample], int, int]:
-    robot, data = read_description(path, lenient=True)
+    robot, data = read_description(path)
     findings = check_robot(robot, meshes=meshes)
     flagged = {f.link for f in findings if f.severity in ("error", "warning")}
     plausible = [lk for lk in robot.links if lk.inertial is not None and lk.name not in flagged

@@ -67,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
     for path in files:
         name = str(path.relative_to(root))
         try:
-            robot, data = read_description(path, lenient=True)
+            robot, data = read_description(path)
             before = check.outcomes(path, robot, data=data)
         except UrdfInertiaError as exc:
             print(f"{name}: unreadable: {exc.cause}")

@@ -82,7 +82,7 @@ def main(argv: list[str] | None = None) -> int:
         counts = dict.fromkeys(totals, 0)
         for path in files:
             try:
-                robot, _ = read_description(path, lenient=True)
+                robot, _ = read_description(path)
                 checked = check_description(robot, meshes=meshes, statics=False)
             except (UrdfInertiaError, OSError, ValueError):
                 continue

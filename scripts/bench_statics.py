@@ -48,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
         for path in files:
             t0 = time.perf_counter()
             try:
-                robot, _ = read_description(path, lenient=True)
+                robot, _ = read_description(path)
             except (UrdfInertiaError, OSError, ValueError):
                 continue
             t1 = time.perf_counter()

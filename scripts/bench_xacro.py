@@ -124,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
     for path in files:
         counts["files"] += 1
         try:
-            robot, document = read_description(path, lenient=True)
+            robot, document = read_description(path)
         except UrdfInertiaError as exc:
             xacro_errors[cause_of(str(exc))] += 1
             continue

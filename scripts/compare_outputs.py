@@ -49,8 +49,8 @@ def link_changes(old: Path, new: Path) -> list[str]:
     from urdfinertia.descriptions.formats import read_description
     from urdfinertia.descriptions.inertial import RawInertial
 
-    a, _ = read_description(old, lenient=True)
-    b, _ = read_description(new, lenient=True)
+    a, _ = read_description(old)
+    b, _ = read_description(new)
     lines = []
     for link in a.links:
         other = b.link(link.name)

@@ -81,7 +81,7 @@ def check(asset: Path, geometry: bool = True) -> str:
     from urdfinertia.cache.library import MeshLibrary
     from urdfinertia.descriptions.formats import read_description
 
-    robot, _ = read_description(asset, lenient=True)
+    robot, _ = read_description(asset)
     findings = check_robot(robot, meshes=MeshLibrary() if geometry else None)
     complete = sum(1 for link in robot.links if link.inertial is not None)
     return (f"{len(robot.links)} bodies, {complete} with a complete MassAPI, "

@@ -80,9 +80,10 @@ def test_whole_collection(erd_dir, tmp_path):
 
 # --- the default policy on real robots (issue 14) -------------------------------------
 def test_default_fix_keeps_clean_robots_and_total_masses(erd_dir):
+    from urdfinertia.plan.apply import mass_change
+
     from urdfinertia.analysis.check import check_robot
     from urdfinertia.descriptions.formats import read_description
-    from urdfinertia.plan.apply import mass_change
 
     meshes = MeshLibrary({"example-robot-data": erd_dir})
     clean = 0
@@ -91,7 +92,7 @@ def test_default_fix_keeps_clean_robots_and_total_masses(erd_dir):
             result = fix_file(path, FixOptions(), meshes)
         except MeshError:
             continue  # a mesh the package does not ship (see test_whole_collection)
-        robot, _ = read_description(path, lenient=True)
+        robot, _ = read_description(path)
         found = check_robot(robot, meshes=meshes)
         if not any(f.severity in ("error", "warning") for f in found):
             assert result.output == path.read_bytes(), path

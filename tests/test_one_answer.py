@@ -88,7 +88,7 @@ def answer(r: LinkResult) -> tuple:
 def robot(request):
     path = _path(*request.param)
     options = FixOptions()
-    model, data = read_description(path, lenient=True)
+    model, data = read_description(path)
     fixed = fix_robot(model, data, options, MeshLibrary())
     return path, model, data, fixed
 
@@ -122,7 +122,7 @@ def test_report_and_explain_show_what_fix_writes(robot):
             assert row.recomputed is None
     changed = [r for r in fixed.links if r.changed]
     if changed:  # explain the first link fix changes: its total is what fix writes
-        model, _ = read_description(path, lenient=True)
+        model, _ = read_description(path)
         if changed[0].assembly is not None and changed[0].assembly.parts:
             b = explain_link(model, changed[0].name, FixOptions())
             _same(b.total, changed[0].after)
@@ -140,7 +140,7 @@ def test_check_on_fix_output_is_clean(robot, request):
             strict=True, reason="fix does not patch inertials in <include>d MJCF files"))
     path, _, _, fixed = robot
     # the output read where the input lies, so its references resolve as the input's do
-    out = robot_from_bytes(fixed.output, path, lenient=True)
+    out = robot_from_bytes(fixed.output, path)
     after = check_description(out, meshes=MeshLibrary())
     assert after.would_change == ()
     by_name = {r.name: r for r in after.links}

@@ -107,13 +107,12 @@ def check(path: str | Path, *, geometry: bool = True, statics: bool = True,
     from urdfinertia.descriptions.formats import read_description
     from urdfinertia.plan.total_mass import DEFAULT_MASS_TOLERANCE
 
-    opts = make_options(**options)
-    robot, _ = read_description(path, lenient=True)
+    opts = make_options(realizable=realizable, **options)
+    robot, _ = read_description(path)
     margin = DEFAULT_MARGIN if effort_margin is None else effort_margin
     tolerance = DEFAULT_MASS_TOLERANCE if mass_tolerance is None else mass_tolerance
     return check_description(robot, options=opts, geometry=geometry, statics=statics,
-                             effort_margin=margin, realizable=realizable,
-                             mass_tolerance=tolerance)
+                             effort_margin=margin, mass_tolerance=tolerance)
 
 
 @_xacro_options

@@ -1,14 +1,17 @@
 """The exception hierarchy. The CLI turns any of these into one line and exit code 2.
 
-Every exception carries a short ``code`` naming its category ("mesh-missing",
-"mesh-too-large", ...): the class gives a default and the raiser may name a finer one
-(``MeshError(cause, code="no-volume")``). Reports and problem lists read the attribute,
+Every exception carries the :class:`~urdfinertia.rules.Rule` of its problem: the class
+gives a default and the raiser may name a finer one (``MeshError(cause,
+rule=Rule.MESH_NO_VOLUME)``). Where one bad element does not sink the robot, the error
+becomes a :class:`~urdfinertia.findings.Finding` of that rule; reports read the rule,
 never the message's words.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+
+from urdfinertia.rules import Rule
 
 
 class UrdfInertiaError(Exception):
@@ -20,15 +23,15 @@ class UrdfInertiaError(Exception):
     ----------
     cause : str
         What is wrong, without the location.
-    code : str
-        The category of the problem (the class's :attr:`default_code` unless the raiser
-        named another), as reports and the JSON output name it.
+    rule : Rule
+        The rule of the problem (the class's :attr:`default_rule` unless the raiser named
+        another).
     file, line, link : str, int, str or None
         Where, as far as known.
     """
 
-    #: category of the class's problems, when the raiser names none
-    default_code = "error"
+    #: the rule of the class's problems, when the raiser names none
+    default_rule = Rule.DESCRIPTION_UNREADABLE
 
     def __init__(
         self,
@@ -37,14 +40,19 @@ class UrdfInertiaError(Exception):
         file: str | Path | None = None,
         line: int | None = None,
         link: str | None = None,
-        code: str | None = None,
+        rule: Rule | str | None = None,
     ) -> None:
         super().__init__(cause)
         self.cause = cause
-        self.code = code if code is not None else self.default_code
+        self.rule = Rule(rule) if rule is not None else self.default_rule
         self.file = str(file) if file is not None else None
         self.line = line
         self.link = link
+
+    @property
+    def code(self) -> str:
+        """The rule's code ("mesh-no-volume")."""
+        return self.rule.value
 
     def with_context(
         self, *, file: str | Path | None = None, line: int | None = None, link: str | None = None
@@ -69,24 +77,25 @@ class UrdfInertiaError(Exception):
 class UrdfError(UrdfInertiaError):
     """The description cannot be read or holds invalid values."""
 
-    default_code = "bad-description"
+    default_rule = Rule.DESCRIPTION_UNREADABLE
 
 
 class MeshError(UrdfInertiaError):
     """A referenced mesh is missing, unreadable, unsupported or unusable.
 
-    Codes: "mesh-missing" (no such file), "mesh-unresolved" (a ``package://`` or
-    ``model://`` that names no known folder), "mesh-url" (a remote or non-file URI),
-    "mesh-format" (a format no reader takes), "mesh-too-large" (over the size or face
-    limit), "no-volume" (encloses no volume), "mesh-unreadable" (anything else).
+    Rules: :attr:`~Rule.MESH_UNRESOLVED` (no such file, or a ``package://`` or
+    ``model://`` that names no known folder), :attr:`~Rule.MESH_REFUSED` (a remote or
+    non-file URI), :attr:`~Rule.MESH_TOO_LARGE` (over the size, face or time limit),
+    :attr:`~Rule.MESH_NO_VOLUME` (encloses no volume), :attr:`~Rule.MESH_ABSURD` (a unit
+    or coordinates no mesh has), :attr:`~Rule.GEOMETRY_UNREADABLE` (anything else).
     """
 
-    default_code = "mesh-unreadable"
+    default_rule = Rule.GEOMETRY_UNREADABLE
 
     def __init__(self, cause: str, *, file: str | Path | None = None,
                  line: int | None = None, link: str | None = None,
-                 code: str | None = None, of_bytes: bool = False) -> None:
-        super().__init__(cause, file=file, line=line, link=link, code=code)
+                 rule: Rule | str | None = None, of_bytes: bool = False) -> None:
+        super().__init__(cause, file=file, line=line, link=link, rule=rule)
         #: True when the file's bytes alone caused it (corrupt, empty, over a limit), not
         #: the machine (permissions, memory): a file's result may then be reused while the
         #: mesh at the same place has the same bytes, though the message names the path
@@ -96,10 +105,10 @@ class MeshError(UrdfInertiaError):
 class SpecError(UrdfInertiaError):
     """The decomposition spec is invalid."""
 
-    default_code = "bad-spec"
+    default_rule = Rule.SPEC_INVALID
 
 
 class OutputError(UrdfInertiaError):
     """An output cannot be written."""
 
-    default_code = "output"
+    default_rule = Rule.OUTPUT_FAILED

@@ -114,6 +114,11 @@ class Rule(StrEnum):
     USD_DIAGONAL_INERTIA_INVALID = "usd-diagonal-inertia-invalid"
     USD_PRINCIPAL_AXES_NOT_UNIT = "usd-principal-axes-not-unit"
     USD_NEWTON_MASS_DISAGREES = "usd-newton-mass-disagrees"
+    MISSING_INERTIAL_MERGED = "missing-inertial-merged"
+    MASS_ZERO_MERGED = "mass-zero-merged"
+    INERTIA_ZERO_MERGED = "inertia-zero-merged"
+    INERTIAL_FROM_GEOMS = "inertial-from-geoms"
+    USD_MASS_WITHOUT_TENSOR = "usd-mass-without-tensor"
     # UI2xx: against the geometry
     GEOMETRY_UNREADABLE = "geometry-unreadable"
     IMPLAUSIBLE_DENSITY = "implausible-density"
@@ -122,6 +127,12 @@ class Rule(StrEnum):
     MESH_UNRESOLVED = "mesh-unresolved"
     NOT_REALIZABLE = "not-realizable"
     GYRATION_IMPLAUSIBLE = "gyration-implausible"
+    COM_FAR_OUTSIDE_GEOMETRY = "com-far-outside-geometry"
+    MESH_NO_VOLUME = "mesh-no-volume"
+    MESH_TOO_LARGE = "mesh-too-large"
+    MESH_REFUSED = "mesh-refused"
+    MESH_REPAIRED = "mesh-repaired"
+    MESH_ABSURD = "mesh-absurd"
     # UI3xx: the robot as simulators merge it
     LUMPED_MASS = "lumped-mass"
     # UI4xx: the engines
@@ -135,7 +146,10 @@ class Rule(StrEnum):
     ENGINE_MISSING = "engine-missing"
     ENGINE_REGRESSION = "engine-regression"
     ENGINE_SKIPPED = "engine-skipped"
+    ENGINE_WARNED = "engine-warned"
+    ENGINE_LESS_STABLE = "engine-less-stable"
     # UI5xx: what the reader read past
+    DESCRIPTION_UNREADABLE = "description-unreadable"
     VECTOR_UNPARSEABLE = "vector-unparseable"
     UNEXPANDED_SUBSTITUTION = "unexpanded-substitution"
     ZERO_SIZE_PRIMITIVE = "zero-size-primitive"
@@ -143,14 +157,44 @@ class Rule(StrEnum):
     MISSING_ATTRIBUTE = "missing-attribute"
     XML_READ_LENIENTLY = "xml-read-leniently"
     MISSING_LAYER = "missing-layer"
+    VECTOR_COMMAS = "vector-commas"
+    INCLUDE_NOT_FOLLOWED = "include-not-followed"
+    VALUE_UNREADABLE = "value-unreadable"
+    DUPLICATE_NAME = "duplicate-name"
+    READER_NOTE = "reader-note"
+    SPEC_INVALID = "spec-invalid"
+    JOINT_UNREADABLE = "joint-unreadable"
+    OUTPUT_FAILED = "output-failed"
     # UI6xx: what the author meant
     SLIP_PROPOSED = "slip-proposed"
     INERTIAL_COPIED = "inertial-copied"
     TWINS_DISAGREE = "twins-disagree"
+    CONVENTION_INFERRED = "convention-inferred"
+    CLOSED_FORM_SCALED = "closed-form-scaled"
+    GEOMETRY_UNIT_SLIP = "geometry-unit-slip"
+    TWIN_VOUCHES = "twin-vouches"
     # UI7xx: the whole robot
     JOINT_CANNOT_HOLD = "joint-cannot-hold"
     JOINT_EFFORT_MARGIN = "joint-effort-margin"
     TOTAL_MASS_MISMATCH = "total-mass-mismatch"
+    MASS_DISTRIBUTION = "mass-distribution"
+    JOINT_MAY_NOT_HOLD = "joint-may-not-hold"
+    TOTAL_MASS_CHANGED = "total-mass-changed"
+    MASS_TARGET_MET = "mass-target-met"
+    # UI8xx: what fix did and why
+    GEOMETRY_NOT_BODY = "geometry-not-body"
+    NEGLIGIBLE_BODY = "negligible-body"
+    NO_GEOMETRY = "no-geometry"
+    AUTO_INERTIAL_KEPT = "auto-inertial-kept"
+    READ_ONLY_BODY = "read-only-body"
+    DERIVED_FROM_IMPLAUSIBLE = "derived-from-implausible"
+    GEOMETRY_SPANS_FAR = "geometry-spans-far"
+    MINIMAL_BODY = "minimal-body"
+    TENSOR_HOLDS_NOTHING = "tensor-holds-nothing"
+    NOT_ASKED = "not-asked"
+    ASKED = "asked"
+    SPEC_NAMED = "spec-named"
+    TENSOR_LIFTED = "tensor-lifted"
 
     @property
     def info(self) -> RuleInfo:
@@ -353,7 +397,7 @@ _TABLE: dict[Rule, RuleInfo] = {
         "mass on the far corners of its box allows.",
         "tensor trace 0.42 kg m^2 is 234x the geometry's 0.0018 at 1.2 kg", _GEOMETRY),
     R.MESH_UNRESOLVED: RuleInfo(
-        "UI205", E, Scope.ELEMENT, FixAction.KEEP,
+        "UI205", W, Scope.ELEMENT, FixAction.KEEP,
         "a mesh reference does not resolve to a file",
         "A `package://` or relative mesh reference names no file, so loaders fail on it and "
         "the link's geometry cannot be checked.",
@@ -433,6 +477,23 @@ _TABLE: dict[Rule, RuleInfo] = {
         "the engines cannot load this format",
         "The requested engines do not read this description format.", "pybullet cannot "
         "load USD", "nothing to silence: it is info"),
+    R.ENGINE_WARNED: RuleInfo(
+        "UI411", W, Scope.ROBOT, FixAction.NONE,
+        "a simulator warned in a passive run (a warning it recovers from)",
+        "The engine printed a warning it does not reset the simulation for (MuJoCo's "
+        "contact or constraint buffer warnings).", "mujoco warned mjWARN_CNSTRFULL x3"),
+    R.DESCRIPTION_UNREADABLE: RuleInfo(
+        "UI500", E, Scope.ROBOT, FixAction.NONE,
+        "the document cannot be read as a whole (not XML, not a robot, a security "
+        "refusal, a nameless or duplicate link)",
+        "Only what makes the whole document unreadable stops a run; `check` and `fix` exit "
+        "2 with one line naming the file and line.", "robot.urdf:3: malformed XML",
+        "fix the document"),
+    R.ENGINE_LESS_STABLE: RuleInfo(
+        "UI412", W, Scope.ROBOT, FixAction.NONE,
+        "a simulator runs the input stably and the fixed output less so",
+        "`fix --engines`: the output loads, but a passive run of it is less stable than the "
+        "input's. Please report it.", "mujoco runs the input stably but not the fixed output"),
     R.VECTOR_UNPARSEABLE: RuleInfo(
         "UI501", E, Scope.ELEMENT, FixAction.NONE,
         "a vector other loaders (urdfdom) cannot parse",
@@ -509,6 +570,276 @@ _TABLE: dict[Rule, RuleInfo] = {
         "`--total-mass KG` or a spec's target: the written masses sum to something else.",
         "written masses sum to 17.2 kg against the 18 kg target (-4.4 %)",
         "`fix --total-mass KG` scales derived masses to meet it; `--mass-tolerance`"),
+
+    R.MISSING_INERTIAL_MERGED: RuleInfo(
+        "UI120", W, Scope.LINK, FixAction.RECOMPUTE,
+        "a moving link has no <inertial>; links fixed to it carry mass only where fixed "
+        "joints are merged",
+        "The link moves and has no inertial of its own, but links attached to it by fixed "
+        "joints have mass: simulators that merge fixed joints (MuJoCo, Drake, PyBullet) see "
+        "a body with that mass; Gazebo and others that keep the link see none.",
+        "moving link has no <inertial>; links fixed to it give it 0.45 kg only in simulators "
+        "that merge fixed joints"),
+    R.MASS_ZERO_MERGED: RuleInfo(
+        "UI121", W, Scope.INERTIAL, FixAction.RECOMPUTE,
+        "a moving link's mass is 0; links fixed to it carry mass only where fixed joints are "
+        "merged",
+        "As UI120, with an inertial of zero mass.", '<mass value="0"/> on a moving link whose '
+        "fixed children have mass"),
+    R.INERTIA_ZERO_MERGED: RuleInfo(
+        "UI122", W, Scope.INERTIAL, FixAction.RECOMPUTE,
+        "mass with a zero inertia tensor on a link that does not move on its own",
+        "A point mass on a link that is merged into a body by fixed joints (or does not "
+        "move): harmless where fixed joints are merged, a refused body where they are not.",
+        "0.1 kg with a zero inertia tensor on the child of a fixed joint"),
+    R.INERTIAL_FROM_GEOMS: RuleInfo(
+        "UI123", I_, Scope.LINK, FixAction.KEEP,
+        "MJCF: a body without <inertial> whose mass properties MuJoCo computes from its geoms",
+        "Under `<compiler inertiafromgeom=\"auto\">` (the default) or `\"true\"`, MuJoCo "
+        "derives a body's mass, CoM and tensor from its geoms (their density or mass). That "
+        "is a valid description: it is judged on what MuJoCo will compute, an error only "
+        "when that is invalid (a moving body whose geoms give no mass).",
+        "mass 1.2 kg, CoM and tensor computed by MuJoCo from 3 geoms",
+        "nothing to silence: it is info"),
+    R.USD_MASS_WITHOUT_TENSOR: RuleInfo(
+        "UI124", I_, Scope.INERTIAL, FixAction.RECOMPUTE,
+        "USD MassAPI: a mass and no tensor (the engines derive it from the colliders)",
+        "A MassAPI that states a mass and no inertia is valid: the engines derive the "
+        "tensor from the colliders at that mass. The mass counts in the robot's total; "
+        "`fix` writes the tensor derived at that mass.",
+        "physics:mass = 1.02, no physics:diagonalInertia", "nothing to silence: it is info"),
+    R.COM_FAR_OUTSIDE_GEOMETRY: RuleInfo(
+        "UI212", E, Scope.INERTIAL, FixAction.RECOMPUTE,
+        "CoM more than ten box diagonals outside the geometry: a unit slip",
+        "The written CoM lies so far outside the geometry (more than 10 diagonals of its "
+        "box) that no modelling choice explains it: a CoM in millimetres, or a CoM in "
+        "another link's frame.", "CoM [0, 0, 120] m is 119.9 m (800 box diagonals) outside "
+        "the geometry's bounding box", _GEOMETRY),
+    R.MESH_NO_VOLUME: RuleInfo(
+        "UI206", W, Scope.ELEMENT, FixAction.NONE,
+        "a mesh that encloses no volume (a flat or open surface beyond repair)",
+        "The mesh's triangles cannot be closed into a solid, so no mass can come from it: "
+        "the element is left out of the link's inertia (it still collides and shows).",
+        "collision[0]: mesh 'plate.stl' encloses no volume"),
+    R.MESH_TOO_LARGE: RuleInfo(
+        "UI207", W, Scope.ELEMENT, FixAction.NONE,
+        "a mesh over the face, size or time limit",
+        "A mesh with more faces than `--max-faces`, more bytes than the size limit, or "
+        "whose repair ran over `--mesh-seconds`, is left out of the link's inertia.",
+        "visual[0]: 5,000,000 faces, more than 2,000,000 (raise it with --max-faces)",
+        "raise `--max-faces` or `--mesh-seconds`"),
+    R.MESH_REFUSED: RuleInfo(
+        "UI208", E, Scope.ELEMENT, FixAction.NONE,
+        "a mesh reference the tool refuses to read (a URL, a path outside what it may read)",
+        "Mesh references that are URLs (http, https, ftp) are never fetched, and a mesh "
+        "reference that is no regular file (a device, a FIFO) is never opened.",
+        "collision[0]: 'https://example.com/a.stl': URLs are not fetched"),
+    R.MESH_REPAIRED: RuleInfo(
+        "UI209", I_, Scope.ELEMENT, FixAction.NONE,
+        "a mesh was repaired to integrate it (holes closed, faces oriented, bodies united)",
+        "Real meshes are often open, inverted or made of overlapping bodies; the repair "
+        "that makes them a closed solid says what it did and how much volume it changed.",
+        "collision[0]: 3 holes closed (+0.4 % volume)", "nothing to silence: it is info"),
+    R.MESH_ABSURD: RuleInfo(
+        "UI213", W, Scope.ELEMENT, FixAction.NONE,
+        "a mesh whose unit, coordinates or size is absurd (not finite, zero or negative "
+        "unit)",
+        "A COLLADA `<unit meter>` that is zero, negative or not a number, or coordinates "
+        "that are not finite: the mesh is not read as if it were right.",
+        'visual[0]: <unit meter="0"> is not a length'),
+    R.VECTOR_COMMAS: RuleInfo(
+        "UI508", W, Scope.ELEMENT, FixAction.NONE,
+        "numbers separated by commas (urdfdom refuses them): read as spaces",
+        "`xyz=\"0.1, 0, 0\"` has one reading, so it is read; urdfdom and the loaders built "
+        "on it refuse it.", 'origin xyz="0.1, 0, 0"', "write the numbers with spaces"),
+    R.INCLUDE_NOT_FOLLOWED: RuleInfo(
+        "UI509", W, Scope.ROBOT, FixAction.NONE,
+        "an SDFormat <include> the tool does not follow",
+        "Included models are not read: their links are neither checked nor fixed.",
+        "<include> of 'model://sensor' is not followed"),
+    R.VALUE_UNREADABLE: RuleInfo(
+        "UI510", W, Scope.ELEMENT, FixAction.NONE,
+        "a value not needed for inertials could not be read (a joint origin, an axis, a "
+        "limit, a pose)",
+        "The value is taken as its default (a zero pose, the x axis) and what depends on it "
+        "(statics, the placement of a link) is said to be unsure.",
+        "joint 'j1' origin: <origin xyz=\"a b c\"> is not a number"),
+    R.DUPLICATE_NAME: RuleInfo(
+        "UI511", W, Scope.LINK, FixAction.NONE,
+        "a second element with a name already taken (read once)",
+        "Two links or bodies share a name; the second is not read.", "second link named "
+        "'base'"),
+    R.READER_NOTE: RuleInfo(
+        "UI512", I_, Scope.ROBOT, FixAction.NONE,
+        "something the reader wants said about how it read the document",
+        "How a construct of the format was read (an SDFormat submesh, a placement frame, an "
+        "MJCF body in an included file).", "<submesh> 'arm' not honoured: the whole mesh "
+        "file is read", "nothing to silence: it is info"),
+    R.SPEC_INVALID: RuleInfo(
+        "UI513", E, Scope.ROBOT, FixAction.NONE,
+        "the decomposition spec cannot be used (unknown link, bad value, parts that do not "
+        "add up)", "A spec error stops the run: the spec is the user's own statement.",
+        "arm.inertia.toml:12: link 'forearm' is not in the robot", "fix the spec"),
+    R.OUTPUT_FAILED: RuleInfo(
+        "UI514", E, Scope.ROBOT, FixAction.NONE,
+        "an output cannot be written", "Nothing is left half-written: the write is atomic.",
+        "out/robot.urdf: permission denied", "write elsewhere"),
+    R.JOINT_UNREADABLE: RuleInfo(
+        "UI515", W, Scope.JOINT, FixAction.NONE,
+        "a joint's axis, limit or effort could not be read: statics judges it without",
+        "Only whole-robot statics (`check`) uses a joint's motion: the value is left out "
+        "(the axis taken as its default, an unbounded effort not judged), and `fix` does "
+        "not repeat it.", "joint 'elbow': <limit><effort> unreadable: left out",
+        "`check --no-statics`"),
+    R.CONVENTION_INFERRED: RuleInfo(
+        "UI604", W, Scope.ROBOT, FixAction.CORRECT,
+        "the file writes its inertials in another convention (tensors about the joint "
+        "origin, the products' sign, grams)",
+        "An author's convention shows on many links at once: every tensor about the joint "
+        "origin instead of the CoM, every product of inertia with CAD's sign, every mass in "
+        "grams. It is inferred from all links jointly and undone on every link the "
+        "evidence supports; the count is in the summary.",
+        "22 of 26 links write the tensor about the joint origin: undone on 22",
+        "`--no-slips` leaves the values as written"),
+    R.CLOSED_FORM_SCALED: RuleInfo(
+        "UI605", I_, Scope.INERTIAL, FixAction.KEEP,
+        "the tensor is its own geometry's closed form, scaled by a round factor: computed "
+        "on purpose",
+        "A tensor that reproduces the closed form of the link's own primitive exactly (or "
+        "times 10, 100, ...) was computed on purpose (a rotor's inertia scaled for a slowed "
+        "simulation, say). It is kept, and said so.",
+        "the tensor is the box's closed form at 0.005 kg, times 10: kept",
+        "nothing to silence: it is info"),
+    R.GEOMETRY_UNIT_SLIP: RuleInfo(
+        "UI607", W, Scope.LINK, FixAction.KEEP,
+        "the geometry, not the inertial, has a unit slip (a mesh in millimetres without its "
+        "scale)",
+        "The written mass over the geometry's volume is a power of 1000 from any material's "
+        "density, and the geometry's size explains it: the mesh is read in the wrong unit. "
+        "Recomputing from it would make things worse: the written values are kept.",
+        "implausible density explained by the geometry: mesh in mm without scale 0.001?",
+        'give the mesh its scale (scale="0.001 0.001 0.001")'),
+    R.TWIN_VOUCHES: RuleInfo(
+        "UI606", I_, Scope.INERTIAL, FixAction.KEEP,
+        "identical to another link's inertial, which fits that link's (same) geometry: kept "
+        "as its twin is",
+        "Identical inputs get identical verdicts. A link whose values equal a twin's, with "
+        "geometry that mirrors it, is judged as its twin is: when the twin's own geometry "
+        "agrees with the values, this link's small differences of geometry (a coarser "
+        "mesh, one contact sphere more) are no evidence against them.",
+        "identical to left_ankle_link's inertial, which fits its geometry: kept",
+        "nothing to silence: it is info"),
+    R.JOINT_MAY_NOT_HOLD: RuleInfo(
+        "UI707", W, Scope.JOINT, FixAction.NONE,
+        "a joint's effort limit holds the gravity torque only at the low end of the band the "
+        "derived masses give",
+        "The derived links' error bars give a band of gravity torques: the effort limit is "
+        "inside it, so whether the joint holds depends on values `fix` could only estimate.",
+        "joint 'knee' must hold up to 41 N m: its effort limit 38 N m holds it only at the "
+        "band's low end", "give the links their CAD masses; `check --no-statics`"),
+    R.MASS_DISTRIBUTION: RuleInfo(
+        "UI704", E, Scope.INERTIAL, FixAction.CORRECT,
+        "a link heavier than the rest of the robot, or ten times its mirror twin",
+        "The robot's mass distribution is evidence: one link that outweighs all others "
+        "together, or ten times its twin, is a slip (grams, a power of ten) with the "
+        "likely edit named, not a design.",
+        "link5 weighs 1226 kg, more than the other 16 links together (17.2 kg): mass x1e-3 "
+        "gives 1.226 kg"),
+    R.TOTAL_MASS_CHANGED: RuleInfo(
+        "UI705", W, Scope.ROBOT, FixAction.NONE,
+        "fix changes the robot's total mass by more than 1 %",
+        "Derived masses (links without a mass, slips undone) change what the robot weighs. "
+        "Check the links given mass, or state the robot's mass with `--total-mass`.",
+        "total mass 47 kg -> 56.4 kg (+20.0 %)", "`fix --total-mass KG`"),
+    R.MASS_TARGET_MET: RuleInfo(
+        "UI706", I_, Scope.ROBOT, FixAction.NONE,
+        "derived masses scaled to meet a target mass",
+        "`--total-mass` or a spec's target: the derived (or, with `--scale-kept`, all) "
+        "masses were scaled to meet it.", "total mass 51.2 kg -> 55 kg (target 55 kg)",
+        "nothing to silence: it is info"),
+    R.GEOMETRY_NOT_BODY: RuleInfo(
+        "UI801", I_, Scope.LINK, FixAction.KEEP,
+        "the geometry is not the body (contact spheres, a marker, a pin, an envelope): no "
+        "evidence about the written values",
+        "Geometry that does not represent the body says nothing about its density or size: "
+        "contact spheres on a foot, a marker box, a pin, an envelope around a light link. "
+        "Findings judged against it are not acted on; the written value is kept.",
+        "collision (4 spheres, 5 mm): contact spheres, not the body", "nothing to silence: "
+        "it is info"),
+    R.NEGLIGIBLE_BODY: RuleInfo(
+        "UI802", I_, Scope.LINK, FixAction.KEEP,
+        "a frame body lighter than 0.1 % of the robot: left as it is",
+        "A placeholder on a link that carries a negligible share of the robot's mass (a "
+        "sensor frame, a 1 g hip) changes nothing a simulator does; with nothing to derive "
+        "it from, it is left as it is without failing the run.",
+        "under 0.1 % of the robot's mass: left as it is", "nothing to silence: it is info"),
+    R.NO_GEOMETRY: RuleInfo(
+        "UI803", W, Scope.LINK, FixAction.NONE,
+        "nothing to compute from: the link has no usable geometry",
+        "A link `fix` would recompute has no geometry element it can integrate: it is left "
+        "as it was (`fix` exits 1) unless its values are invalid, which get the minimal "
+        "repair.", "placeholder-inertia; no geometry to recompute from: left as it is",
+        "give the link a collision or visual element, or a spec entry"),
+    R.AUTO_INERTIAL_KEPT: RuleInfo(
+        "UI804", I_, Scope.INERTIAL, FixAction.KEEP,
+        "SDFormat <inertial auto=\"true\">: the simulator computes it (kept with --keep-auto)",
+        "Gazebo computes the inertial from the collisions at load time.", '<inertial '
+        'auto="true"/>', "nothing to silence: it is info"),
+    R.READ_ONLY_BODY: RuleInfo(
+        "UI805", W, Scope.LINK, FixAction.NONE,
+        "the new values cannot be written where the inertial lives (an included file)",
+        "An MJCF body defined in an included file: `fix` writes only the file it was given, "
+        "so the link is left as it was.", "body 'hand' is defined in hand.xml (included)",
+        "run `fix` on the included file"),
+    R.DERIVED_FROM_IMPLAUSIBLE: RuleInfo(
+        "UI806", W, Scope.LINK, FixAction.NONE,
+        "a derived inertial whose implied density is no material's (asked for by --all, "
+        "--geometry or --links)",
+        "The geometry asked for holds the kept mass at a density no material has: the "
+        "derived tensor is likely wrong.", "implied density 41000 kg/m^3 is outside "
+        "50..25000"),
+    R.GEOMETRY_SPANS_FAR: RuleInfo(
+        "UI807", W, Scope.LINK, FixAction.NONE,
+        "the geometry spans more than 10 m: a millimetre mesh without scale?",
+        "A robot part more than 10 m across is a unit slip of the mesh.", "geometry spans "
+        "152 m: millimetre mesh without scale?", 'add scale="0.001 0.001 0.001"'),
+    R.MINIMAL_BODY: RuleInfo(
+        "UI808", W, Scope.INERTIAL, FixAction.REPAIR,
+        "a moving link with no usable mass and nothing to compute from: given the smallest "
+        "body a simulator accepts",
+        "A moving body needs mass: it gets 1e-5 kg, a 1 cm sphere, reported as such.",
+        "given 1e-05 kg, a 1 cm sphere"),
+    R.TENSOR_HOLDS_NOTHING: RuleInfo(
+        "UI809", W, Scope.INERTIAL, FixAction.REPAIR,
+        "a tensor with no information left (radius of gyration below 0.1 mm): replaced by "
+        "a sphere of the written mass",
+        "Lifting such a tensor would still leave it below MuJoCo's floor: it becomes a solid "
+        "sphere of the written mass at `--density`.", "the tensor holds nothing to keep: a "
+        "solid sphere of the mass at 1000 kg/m^3"),
+    R.NOT_ASKED: RuleInfo(
+        "UI810", I_, Scope.LINK, FixAction.KEEP,
+        "not among the links `--links` names: kept as written",
+        "`fix --links A B` recomputes the links named only.", "not named",
+        "nothing to silence: it is info"),
+    R.ASKED: RuleInfo(
+        "UI813", I_, Scope.LINK, FixAction.RECOMPUTE,
+        "recomputed because the options ask for it (`--all`, or named by `--links`)",
+        "`fix --all` derives every link with geometry, `--links A B` the links named, "
+        "whatever they carry; an invalid value of a link not asked for still gets the "
+        "minimal repair.", "every link asked for", "nothing to silence: it is info"),
+    R.SPEC_NAMED: RuleInfo(
+        "UI811", I_, Scope.LINK, FixAction.RECOMPUTE,
+        "named in the decomposition spec: recomputed from its parts",
+        "A link the spec names is always computed from the spec's elements and parts (the "
+        "paper's decomposition), whatever it carries.", "named in the spec",
+        "nothing to silence: it is info"),
+    R.TENSOR_LIFTED: RuleInfo(
+        "UI812", I_, Scope.INERTIAL, FixAction.REPAIR,
+        "the minimal repair: principal moments lifted just enough to be valid",
+        "Mass and CoM are kept; the principal moments are raised by the least that makes "
+        "the tensor positive definite and satisfy A + B >= C, in the link's own axes.",
+        "principal moment 1 raised 2.1e-06 -> 2.4e-06 kg m^2 (A + B >= C)",
+        "nothing to silence: it is info"),
 }
 del E, W, I_, R
 

@@ -156,11 +156,12 @@ def test_plausible_tensor_beyond_tolerance_is_kept_not_differs(tmp_path):
 
 
 def test_wrong_tensor_differs_from_the_geometry(tmp_path):
-    # 300x the cube's tensor: beyond what the geometry allows, so fix recomputes it
+    # 300x the cube's tensor: beyond what the geometry allows, so fix recomputes it (an
+    # isotropic tensor whose radius of gyration no 1 kg compact body has: a placeholder)
     (c,) = compare_with_geometry(cube(tmp_path, "c.urdf", scale=300.0), FixOptions())
     assert c.verdict == "differs" and c.inertia_rel_error == pytest.approx(299 / 300,
                                                                              rel=1e-9)
-    assert c.decision == "would be recomputed: inertia-vs-geometry"
+    assert c.decision == "would be recomputed: placeholder-inertia, inertia-vs-geometry"
 
 
 def test_compare_two_files(tmp_path):

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from urdfinertia.analysis.check import Finding
 from urdfinertia.analysis.locate import Location, locate_all
-from urdfinertia.descriptions.urdf.lenient import read_urdf_lenient
+from urdfinertia.descriptions.formats import read_description as read_urdf_lenient
+from urdfinertia.findings import Finding
+from urdfinertia.rules import Rule
 
 INERTIAL = ('<inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" '
             'izz="3"/></inertial>')
@@ -33,10 +34,10 @@ def locate(tmp_path: Path, findings: list[Finding], text: str = DOC) -> list[Loc
 
 def test_link_and_inertial_start_tags(tmp_path):
     found = locate(tmp_path, [
-        Finding("a", "error", "missing-inertial", "m"),  # element: link
-        Finding("a", "error", "triangle-inequality", "m"),  # element: inertial
-        Finding("b", "error", "triangle-inequality", "m"),
-        Finding(None, "info", "engine-missing", "m"),  # element: robot
+        Finding(Rule.MISSING_INERTIAL, "a", "m"),  # element: link
+        Finding(Rule.TRIANGLE_INEQUALITY, "a", "m"),  # element: inertial
+        Finding(Rule.TRIANGLE_INEQUALITY, "b", "m"),
+        Finding(Rule.ENGINE_MISSING, None, "m"),  # element: robot
     ])
     # lxml would say line 6 for link a (where its start tag ends); the tag starts on line 5
     assert found[0] == Location(5, 5)
@@ -48,11 +49,11 @@ def test_link_and_inertial_start_tags(tmp_path):
 
 def test_column_counts_characters_not_bytes(tmp_path):
     text = DOC.replace('<link name="b">', '<!--é--><link name="b">')
-    found = locate(tmp_path, [Finding("b", "warning", "lumped-mass", "m")], text)
+    found = locate(tmp_path, [Finding(Rule.LUMPED_MASS, "b", "m")], text)
     line9 = text.splitlines()[8]
     assert found[0] == Location(9, line9.index("<link") + 1)
 
 
 def test_unknown_link_points_at_the_root(tmp_path):
-    assert locate(tmp_path, [Finding("zz", "error", "engine-refused", "m")]) == [
+    assert locate(tmp_path, [Finding(Rule.ENGINE_REFUSED, "zz", "m")]) == [
         Location(3, 1)]

@@ -10,9 +10,9 @@ from pathlib import Path
 import jsonschema
 import pytest
 
-from urdfinertia.analysis.check import RULES
 from urdfinertia.cli import main
 from urdfinertia.render.annotations import escape_data, escape_property
+from urdfinertia.rules import Rule
 
 SCHEMA = json.loads((Path(__file__).resolve().parents[1] / "data" /
                      "sarif-schema-2.1.0.json").read_text())
@@ -52,7 +52,7 @@ def test_sarif_is_valid_and_points_at_the_inertial(repo, capsys):
     jsonschema.Draft4Validator(SCHEMA).validate(doc)
     assert code == 1
     (result,) = doc["runs"][0]["results"]
-    assert result["ruleId"] == RULES["triangle-inequality"].id
+    assert result["ruleId"] == Rule.TRIANGLE_INEQUALITY.id
     assert result["level"] == "error"
     loc = result["locations"][0]["physicalLocation"]
     assert loc["artifactLocation"]["uri"] == "urdf/r.urdf"
@@ -71,7 +71,7 @@ def test_sarif_file_and_stdout_agree_and_json_keeps_working(repo, capsys):
     assert json.loads(out) == json.loads(Path("out.json").read_text())
     finding = json.loads(out)["files"][0]["findings"][0]
     assert finding["code"] == "triangle-inequality" and finding["known"] is False
-    assert finding["rule"] == RULES["triangle-inequality"].id and finding["line"] > 1
+    assert finding["rule"] == Rule.TRIANGLE_INEQUALITY.id and finding["line"] > 1
     jsonschema.Draft4Validator(SCHEMA).validate(json.loads(Path("out.sarif").read_text()))
     assert "1 error(s)" in err  # the summary stays off stdout
 
@@ -90,7 +90,7 @@ def test_github_annotations(repo, capsys):
         assert command == "error" and fields["file"] == "urdf/r.urdf"
         row, col = int(fields["line"]), int(fields["col"])
         assert text[row - 1][col - 1] == "<"
-        assert fields["title"].split(" ")[0] in {r.id for r in RULES.values()}
+        assert fields["title"].split(" ")[0] in {r.id for r in Rule}
         assert message.startswith("link '")
 
 
@@ -106,7 +106,7 @@ def test_baseline_survives_unrelated_edits_and_new_findings_fail(repo, capsys):
     assert code == 0
     entries = json.loads(Path("inertia-baseline.json").read_text())["findings"]
     assert [(e["rule"], e["file"], e["link"]) for e in entries] == [
-        (RULES["triangle-inequality"].id, "urdf/r.urdf", "arm")]
+        (Rule.TRIANGLE_INEQUALITY.id, "urdf/r.urdf", "arm")]
     # an unrelated edit: lines inserted above, another link changed, numbers in the message
     # of the known finding changed too (izz 0.05 -> 0.06)
     path.write_text(robot({"extra": GOOD, "arm": TRIANGLE.replace("0.05", "0.06"),

@@ -71,10 +71,14 @@ def test_terminal_output_fits_its_width(panda, tmp_path, capsys, monkeypatch, co
 
 
 def test_duplicated_notes_are_shown_once():
-    note = "no geometry: inertial left as it was"
-    r = LinkResult("a", "untouched", "none", None, None, warnings=(note, note),
-                   decision=note)
-    assert _notes(r) == note
+    from urdfinertia.findings import Finding
+    from urdfinertia.rules import Rule
+
+    note = Finding(Rule.MESH_REPAIRED, "a", "collision[0]: holes closed", None,
+                   "collision[0]")
+    r = LinkResult("a", "untouched", "leave", (note, note), because=Rule.NO_GEOMETRY)
+    assert _notes(r) == ("left as it is: no geometry to recompute from; "
+                         "collision[0]: holes closed")
 
 
 def test_misspelled_option_is_named_once_with_a_suggestion(tmp_path, capsys):

@@ -47,7 +47,7 @@ def test_a_claiming_format_wins_over_a_plain_one_of_the_same_root(tmp_path, monk
 
     register_format(DescriptionFormat(
         name="special", roots=("robot",), suffixes=(".special",), read=read,
-        read_lenient=read, patch=lambda data, new: data,
+        patch=lambda data, new: data,
         claims=lambda data, path: b"special" in data))
     assert detect_format(URDF, Path("r.urdf")).name == "urdf"
     claimed = URDF.replace(b'name="r"', b'name="special"')

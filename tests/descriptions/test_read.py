@@ -13,6 +13,7 @@ from urdfinertia.descriptions.urdf.read import MAX_MAGNITUDE, parse_xml, read_ur
 from urdfinertia.descriptions.xml import safe_parser
 from urdfinertia.errors import UrdfError
 from urdfinertia.hostile import hostile_xml_cause, hostile_xml_stream_cause
+from urdfinertia.rules import Rule
 
 
 def robot(body: str, inertial: str = ""):
@@ -34,9 +35,10 @@ def test_numbers_accepted(text, value):
     assert box(text).links[0].collisions[0].shape == Box(value)
 
 
-def only_problem(r, kind: str = "dropped"):
-    found = [p for p in r.problems if p.kind == kind]
-    assert len(found) == 1, r.problems
+def only_problem(r, rule: Rule | None = None):
+    """The reader's one finding (of ``rule``, when given)."""
+    found = [f for f in r.findings if rule is None or f.rule == rule]
+    assert len(found) == 1, r.findings
     return found[0]
 
 
@@ -48,24 +50,25 @@ def test_non_numbers_drop_the_element(text):
     r = box(text)
     assert r.links[0].collisions == ()
     p = only_problem(r)
-    assert re.search("is not a number|needs 3 numbers", p.cause), p
-    assert (p.link, p.line, p.element, p.code) == ("a", 1, "collision[0]", "bad-number")
+    assert re.search("is not a number|needs 3 numbers", p.message), p
+    assert (p.link, p.line, p.element, p.rule) == ("a", 1, "collision[0]",
+                                                    Rule.VECTOR_UNPARSEABLE)
 
 
 @pytest.mark.parametrize(("text", "value"), [
     ("1,2,3", (1.0, 2.0, 3.0)), ("1.57, 1.30 1.57", (1.57, 1.3, 1.57)),
 ])
 def test_commas_between_numbers_read_with_a_note(text, value):
-    """One reading only (urdfdom's neighbours take it): read, with a lenient note."""
+    """One reading only (urdfdom's neighbours take it): read, with a finding."""
     r = box(text)
     assert r.links[0].collisions[0].shape == Box(value)
-    assert only_problem(r, "lenient").code == "comma-vector"
+    assert only_problem(r).rule == Rule.VECTOR_COMMAS
 
 
 @pytest.mark.parametrize("text", ["1e400 1 1", f"{MAX_MAGNITUDE * 10:g} 1 1"])
 def test_out_of_range_drops_the_element(text):
     r = box(text)
-    assert r.links[0].collisions == () and "out of range" in only_problem(r).cause
+    assert r.links[0].collisions == () and "out of range" in only_problem(r).message
 
 
 def test_largest_magnitude_accepted():
@@ -99,11 +102,20 @@ def test_negative_product_of_inertia_accepted():
     assert robot("", INERTIAL.format(m="1", i="1")).links[0].inertial.ixy == -5.0
 
 
-@pytest.mark.parametrize(("m", "i", "words"), [("-1", "1", "mass"), ("1", "-0.5", "ixx")])
-def test_negative_mass_or_moment_is_an_ignored_value(m, i, words):
-    p = only_problem(robot("", INERTIAL.format(m=m, i=i)), "ignored")
-    assert re.search(f"{words}.*is negative", p.cause)
-    assert (p.link, p.line, p.code) == ("a", 1, "negative-inertial")
+@pytest.mark.parametrize(("m", "i"), [("-1", "1"), ("1", "-0.5"), ("nan", "1"),
+                                      ("1", "inf"), ("1e308", "1"), ("abc", "1")])
+def test_an_inertial_is_read_as_written(m, i):
+    """One reading: values no simulator takes are read as written (the judgement's to
+    find), a text that is no number as NaN with a finding."""
+    r = robot("", INERTIAL.format(m=m, i=i))
+    inertial = r.links[0].inertial
+    assert inertial is not None
+    expected_mass = float("nan") if m == "abc" else float(m)
+    assert (inertial.mass == expected_mass) or (inertial.mass != inertial.mass
+                                               and expected_mass != expected_mass)
+    assert inertial.ixx == float(i) or (inertial.ixx != inertial.ixx and i == "nan")
+    found = [f.rule for f in r.findings]
+    assert found == ([Rule.VECTOR_UNPARSEABLE] if m == "abc" else [])
 
 
 def test_namespaced_root_refused():

@@ -24,7 +24,7 @@ ALL = [engine("mujoco"), engine("pinocchio"), engine("pybullet")]
 
 def findings(name: str, file: str):
     path = DATA / file
-    robot, _ = read_description(path, lenient=True)
+    robot, _ = read_description(path)
     return EngineCheck((name,), seconds=2.0, timeout=120).findings(path, robot)
 
 
@@ -76,7 +76,7 @@ def test_pybullet_silent_defaults_and_zeroed_tensor():
     path = Path(__file__).parent / "_bare.urdf"
     try:
         path.write_text(bare)
-        robot, _ = read_description(path, lenient=True)
+        robot, _ = read_description(path)
         got = EngineCheck(("pybullet",)).findings(path, robot)
     finally:
         path.unlink()
@@ -90,7 +90,7 @@ def test_mujoco_compiler_options_that_change_inertials(tmp_path):
         "</robot>", '<mujoco><compiler balanceinertia="true" boundmass="2"/></mujoco>\n</robot>')
     path = tmp_path / "balanced.urdf"
     path.write_text(text)
-    robot, _ = read_description(path, lenient=True)
+    robot, _ = read_description(path)
     found = EngineCheck(("mujoco",)).findings(path, robot)
     messages = [f.message for f in found if f.code == "engine-changes-inertial"]
     assert any("balanceinertia" in m for m in messages)
@@ -99,7 +99,7 @@ def test_mujoco_compiler_options_that_change_inertials(tmp_path):
 
 
 def test_a_missing_engine_is_a_note_with_the_install_command():
-    robot, _ = read_description(DATA / "fine.urdf", lenient=True)
+    robot, _ = read_description(DATA / "fine.urdf")
     (note,) = outcome_findings(Outcome("pinocchio", missing=True), robot, b"", DATA)
     assert note.severity == "info" and "pip install pin" in note.message
 

@@ -98,7 +98,7 @@ def test_no_slips_derives_from_the_geometry_as_before():
 
 
 def test_check_says_it_in_words_and_plans_what_fix_does(fixed):
-    checked = check_description(read_description(EACH, lenient=True)[0], meshes=MeshLibrary())
+    checked = check_description(read_description(EACH)[0], meshes=MeshLibrary())
     assert [(r.name, r.action, r.why) for r in checked.links] == [
         (r.name, r.action, r.why) for r in fixed.links]
     words = {f.link: f.message for f in checked.findings if f.code == "slip-proposed"}
@@ -109,7 +109,7 @@ def test_check_says_it_in_words_and_plans_what_fix_does(fixed):
 
 
 def test_check_on_the_output_finds_nothing_to_correct(fixed):
-    after = check_description(robot_from_bytes(fixed.output, EACH, lenient=True),
+    after = check_description(robot_from_bytes(fixed.output, EACH),
                               meshes=MeshLibrary())
     assert after.would_change == ()
     assert not any(f.code == "slip-proposed" for f in after.findings)
@@ -160,30 +160,31 @@ def test_slips_planted_into_a_real_robot_are_undone_or_left():
 
     from support.corpus import example_robot_data_dir
 
-    from urdfinertia.body.bounds import BoundsCache
-    from urdfinertia.descriptions.kinematics import Kinematics
     from urdfinertia.inertia.slips import decimal_shift
-    from urdfinertia.plan.policy import decide_link
+    from urdfinertia.plan.fix import verdicts
 
     erd = example_robot_data_dir()
     path = None if erd is None else erd / "robots/panda_description/urdf/panda.urdf"
     if path is None or not path.is_file():
         pytest.skip("example-robot-data is not installed")
     robot, _ = read_description(path)
-    kin, meshes = Kinematics(robot), MeshLibrary()
-    cache, right, tried = BoundsCache(meshes), 0, 0
-    for link in robot.links:
+    meshes = MeshLibrary()
+    clean = {r.name: r for r in verdicts(robot, FixOptions(), meshes).links}
+    right = tried = 0
+    for k, link in enumerate(robot.links):
         i = link.inertial
-        if i is None or not link.collisions or decide_link(
-                link, robot, kin, FixOptions(), meshes, cache, path.parent).why != "plausible":
+        if i is None or not link.collisions or clean[link.name].why != "plausible":
             continue
         for slipped in (dataclasses.replace(i, mass=decimal_shift(i.mass, 3)[0]),
                         dataclasses.replace(i, izz=decimal_shift(i.izz, 3)[0]),
                         dataclasses.replace(i, **{k: decimal_shift(getattr(i, k), 6)[0]
                                                   for k in ("ixx", "ixy", "ixz", "iyy",
                                                             "iyz", "izz")})):
-            d = decide_link(dataclasses.replace(link, inertial=slipped), robot, kin,
-                            FixOptions(), meshes, cache, path.parent)
+            links = list(robot.links)
+            links[k] = dataclasses.replace(link, inertial=slipped)
+            planted = dataclasses.replace(robot, links=tuple(links))
+            d = next(r for r in verdicts(planted, FixOptions(), meshes).links
+                     if r.name == link.name)
             tried += 1
             if d.slip is None:
                 continue

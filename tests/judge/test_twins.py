@@ -1,4 +1,5 @@
-"""Copies and mirror twins (``analysis.twins``) on a hand-made robot, and the name pairing."""
+"""Copies and mirror twins (``judge.twins``, judged with the robot in ``judge.robot``) on a
+hand-made robot, and the name pairing."""
 
 from __future__ import annotations
 
@@ -10,7 +11,15 @@ from urdfinertia.analysis.check import check_description
 from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import read_description
-from urdfinertia.judge.twins import twin_findings, twin_names
+from urdfinertia.judge.twins import twin_names
+from urdfinertia.plan.fix import verdicts
+
+
+def twin_findings(robot, meshes, options):  # noqa: ANN001, ANN201
+    """The copy and twin findings of the robot's judgement, in link order."""
+    found = verdicts(robot, options, meshes)
+    return [f for r in found.links for f in r.findings
+            if f.code in ("inertial-copied", "twins-disagree")]
 
 TWINS = Path(__file__).resolve().parents[1] / "data" / "slips" / "twins.urdf"
 
@@ -44,6 +53,27 @@ def test_a_copy_is_named_with_its_source(findings):
     assert copies[0].rule.id == "UI602"
 
 
+def test_a_copy_is_derived_at_its_source_density():
+    """The copy's values are derived from its own geometry at the density of the link it
+    was copied from (the sibling's construction), the source is kept."""
+    robot, _ = read_description(TWINS)
+    found = {r.name: r for r in verdicts(robot, FixOptions(), MeshLibrary()).links}
+    copy, source = found["left_foot"], found["left_shin"]
+    assert copy.action == "recompute" and "inertial-copied" in copy.grounds
+    assert copy.assembly is not None and copy.assembly.mass_source.kind == "density"
+    rho = source.before.mass / sum(p.part.volume for p in
+                                   found_parts(robot, "left_shin"))
+    assert copy.assembly.mass_source.value == pytest.approx(rho, rel=1e-9)
+    assert source.status == "kept"
+
+
+def found_parts(robot, name):  # noqa: ANN001, ANN201
+    from urdfinertia.plan.policy import every_link
+
+    r = {x.name: x for x in verdicts(robot, every_link(FixOptions()), MeshLibrary()).links}
+    return r[name].assembly.parts
+
+
 def test_twins_that_disagree_say_which_side_agrees(findings):
     twins = [f for f in findings if f.code == "twins-disagree"]
     assert [f.link for f in twins] == ["right_thigh"]
@@ -72,7 +102,7 @@ def test_agreeing_twins_and_identical_links_are_quiet(tmp_path):
 
 
 def test_check_reports_them_and_no_slips_turns_them_off():
-    robot, _ = read_description(TWINS, lenient=True)
+    robot, _ = read_description(TWINS)
     codes = {f.code for f in check_description(robot, meshes=MeshLibrary()).findings}
     assert {"inertial-copied", "twins-disagree"} <= codes
     off = check_description(robot, meshes=MeshLibrary(), options=FixOptions(slips=False))

@@ -138,7 +138,7 @@ def test_negative_scale_mirrors_com_and_keeps_mass_positive(tmp_path):
     np.testing.assert_allclose(b.com, a.com * [1, -1, 1], atol=1e-12)
     mirror = np.diag([1.0, -1.0, 1.0])
     np.testing.assert_allclose(b.inertia, mirror @ a.inertia @ mirror, rtol=1e-9, atol=1e-15)
-    assert "mirrored" in " ".join(only(res, "b").warnings)
+    assert "mirrored" in " ".join(f.message for f in only(res, "b").findings)
 
 
 def test_multi_body_mesh_gives_one_part_per_body(tmp_path):

@@ -75,7 +75,7 @@ def test_unreadable_geometry_gives_an_invalid_inertial_the_minimal_repair(tmp_pa
     assert (r.status, r.action) == (Status.REPAIRED, Action.REPAIR)
     assert r.why == "triangle-inequality; geometry could not be read"
     assert r.after.is_physical() and r.after.mass == 0.15
-    assert r.unverified and "not_shipped.stl" in r.unverified[0]
+    assert r.unverified and "not_shipped.stl" in r.unverified[0].message
     assert not result.left  # nothing left invalid
 
 

@@ -103,8 +103,8 @@ def identifier(name: str) -> str:
 
 def compare_import(source: str | Path, converted: str | Path) -> AgainstReport:
     """Every difference between a description and what it was converted to."""
-    src, _ = read_description(source, lenient=True)
-    dst, _ = read_description(converted, lenient=True)
+    src, _ = read_description(source)
+    dst, _ = read_description(converted)
     report = AgainstReport(Path(source), Path(converted))
     by_name = {link.name: link for link in dst.links}
     by_ident = {identifier(link.name): link for link in dst.links}

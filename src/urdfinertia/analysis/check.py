@@ -35,30 +35,9 @@ from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.kinematics import FixedGroup, Kinematics
 from urdfinertia.descriptions.model import Robot
-from urdfinertia.findings import (  # noqa: F401  (re-exported: check's API)
-    RULES,
-    SEVERITIES,
-    Finding,
-    Rule,
-    rule_of,
-)
+from urdfinertia.findings import SEVERITIES, Finding
 from urdfinertia.inertia.massprops import MassProperties, combine
-from urdfinertia.judge.plausibility import (  # noqa: F401  (re-exported: check's API)
-    ABSURD_MASS,
-    ABSURD_MOMENT,
-    COM_OUTSIDE_ERROR,
-    COM_OUTSIDE_WARN,
-    INERTIA_RATIO_LIMIT,
-    _moments,
-    geometry_findings,
-    reference_findings,
-    value_findings,
-)
-
-# Findings and their rule ids, and the per-link rules, live one layer down, where
-# ``fix``'s policy uses them too.
-from urdfinertia.judge.realizability import robot_realizability
-from urdfinertia.plan.fix import link_verdicts
+from urdfinertia.judge.values import moments_text
 from urdfinertia.plan.results import LinkResult, Status
 from urdfinertia.plan.total_mass import (
     DEFAULT_MASS_TOLERANCE,
@@ -68,6 +47,7 @@ from urdfinertia.plan.total_mass import (
     target_findings,
     untargeted,
 )
+from urdfinertia.rules import Rule, Severity
 
 
 @dataclass(frozen=True, eq=False)
@@ -100,15 +80,36 @@ class CheckResult:
         """Links some of whose geometry could not be read: they were not verified."""
         return tuple(r for r in self.links if r.unverified)
 
+    @property
+    def left(self) -> tuple[LinkResult, ...]:
+        """Links ``fix`` would leave as they are although they need changing (it exits 1)."""
+        return tuple(r for r in self.links if r.status == Status.LEFT)
+
     def counts(self) -> dict[str, int]:
         """Findings by severity."""
         return {s: sum(f.severity == s for f in self.findings) for s in SEVERITIES}
 
+    def failing(self, strict: bool = False) -> tuple[Finding, ...]:
+        """The findings that fail the run: errors; with ``strict`` also every warning that
+        ``fix`` does not keep on purpose (:meth:`LinkResult.keeps`): a warning on a value
+        ``fix`` keeps, with the reason said, does not fail ``--strict``, so that ``check
+        --strict`` passes on what ``fix`` wrote."""
+        by_name = {r.name: r for r in self.links}
+        out = []
+        for f in self.findings:
+            if f.severity == Severity.ERROR:
+                out.append(f)
+            elif strict and f.severity == Severity.WARNING:
+                r = by_name.get(f.link) if f.link is not None else None
+                if r is None or not r.keeps(f):
+                    out.append(f)
+        return tuple(out)
+
     def exit_code(self, strict: bool = False) -> int:
-        """1 when an error (a warning too with ``strict``) was found or a link could not be
-        verified, else 0 (the command line's exit code without a baseline)."""
-        bad = {"error", "warning"} if strict else {"error"}
-        return 1 if self.unverified or any(f.severity in bad for f in self.findings) else 0
+        """1 when a finding fails the run (:meth:`failing`), a link could not be verified
+        or ``fix`` would leave a link that needs changing; else 0 (the command line's exit
+        code without a baseline)."""
+        return 1 if self.unverified or self.left or self.failing(strict) else 0
 
 
 def check_robot(robot: Robot, *, meshes: MeshLibrary | None = None,
@@ -126,49 +127,46 @@ def check_robot(robot: Robot, *, meshes: MeshLibrary | None = None,
 def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
                       options: FixOptions | None = None,
                       geometry: bool = True, statics: bool = True,
-                      effort_margin: float = DEFAULT_MARGIN, realizable: str = "ellipsoid",
+                      effort_margin: float = DEFAULT_MARGIN,
                       mass_tolerance: float = DEFAULT_MASS_TOLERANCE) -> CheckResult:
     """``check`` of a robot already read: findings and every link's verdict.
 
-    With ``statics`` (the default) every joint's gravity load over its range is held
+    With ``geometry`` (the default) the robot is judged as ``fix`` judges it
+    (:func:`urdfinertia.plan.fix.verdicts`): the findings are the verdicts' and the plan is
+    ``fix``'s. Without it only the written values and mesh references are checked (no
+    plan). With ``statics`` (the default) every joint's gravity load over its range is held
     against its effort limit (:mod:`urdfinertia.analysis.statics`): an error when it
-    exceeds it, a warning within ``effort_margin`` of it.
-    ``realizable`` is the region UI210 tests the written inertials in: "ellipsoid" (the
-    geometry's bounding ellipsoid) or "hull" (its convex hull; slower).
-    Target masses (``options.total_mass``, the spec's ``total_mass`` and ``[subtree.NAME]
-    mass``) are held against the written masses: UI703 beyond ``mass_tolerance`` (a
-    fraction); the plan is ``fix``'s with the targets, or without them where ``fix``
-    would refuse them (the finding says so).
+    exceeds it, a warning within ``effort_margin`` of it. Target masses
+    (``options.total_mass``, the spec's ``total_mass`` and ``[subtree.NAME] mass``) are held
+    against the written masses: UI703 beyond ``mass_tolerance`` (a fraction); the plan is
+    ``fix``'s with the targets, or without them where ``fix`` would refuse them (the
+    finding says so). ``options.realizable`` is the region UI210 tests the written
+    inertials in.
     """
+    from urdfinertia.plan.fix import verdicts
+
     options = options or FixOptions()
     targeted = bool(mass_targets(robot, options))
     kin = Kinematics(robot)
-    urdf_dir = robot.path.parent if robot.path is not None else Path(".")
     path = robot.path or Path("robot.urdf")
-    findings: list[Finding] = list(problem_findings(robot))
+    findings: list[Finding] = []
     links: tuple[LinkResult, ...] = ()
     if geometry:
         if meshes is None:
             meshes = mesh_library(options.package_dirs, options.max_faces)
-        links = link_verdicts(robot, untargeted(options) if targeted else options, meshes)
+        found = verdicts(robot, untargeted(options) if targeted else options, meshes)
+        links = found.links
+        findings.extend(f for f in found.findings if f.rule != Rule.TOTAL_MASS_CHANGED)
         if targeted:
             findings.extend(target_findings(robot, links, options, mass_tolerance))
             try:
                 links = meet_targets(robot, links, options)[0]
             except MassTargetError:
                 pass  # fix refuses the target: its plan without it (the finding says so)
-        realizing = robot_realizability(robot.links, meshes, urdf_dir, realizable)
         for r in links:
             findings.extend(r.findings)
-            findings.extend(f for f in realizing if f.link == r.name)
-        if options.slips:  # what the author meant, across links: copies and twins
-            from urdfinertia.judge.twins import twin_findings
-
-            findings.extend(twin_findings(robot, meshes, options, urdf_dir))
     else:
-        for link in robot.links:
-            findings.extend(value_findings(link, kin, robot))
-            findings.extend(reference_findings(link, options, urdf_dir))
+        findings.extend(values_only(robot, options, meshes))
         if targeted:
             findings.extend(target_findings(robot, (), options, mass_tolerance))
     for group in kin.groups.values():
@@ -180,29 +178,20 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
     return CheckResult(path, robot, links, tuple(findings), held)
 
 
-#: Severity and finding code of each problem the reader read past (what other loaders do
-#: with it: urdfdom refuses a vector it cannot parse; MuJoCo refuses a zero-size geom).
-_PROBLEM_FINDINGS = {
-    "bad-number": ("error", "vector-unparseable"),
-    "comma-vector": ("error", "vector-unparseable"),
-    "unexpanded-substitution": ("error", "unexpanded-substitution"),
-    "zero-size": ("warning", "zero-size-primitive"),
-    "unsupported-shape": ("warning", "unsupported-geometry"),
-    "missing-attribute": ("error", "missing-attribute"),
-    "xml-declaration": ("warning", "xml-read-leniently"),
-    "undeclared-prefix": ("warning", "xml-read-leniently"),
-    "trailing-content": ("warning", "xml-read-leniently"),
-}
+def values_only(robot: Robot, options: FixOptions,
+                meshes: MeshLibrary | None = None) -> list[Finding]:
+    """``check --no-geometry``: the reader's findings, the written values alone and the
+    mesh references, per link; no mesh is read."""
+    from urdfinertia.body.evidence import robot_evidence
+    from urdfinertia.judge.values import value_findings
 
-
-def problem_findings(robot: Robot) -> list[Finding]:
-    """What the reader read past (elements dropped, values read leniently), with lines."""
-    out = []
-    for p in robot.problems:
-        severity, code = _PROBLEM_FINDINGS.get(p.code, (rule_of(p.code).severity, p.code))
-        where = f"line {p.line}: " if p.line is not None else ""
-        element = f"{p.element}: " if p.element else ""
-        out.append(Finding(p.link, severity, code, f"{where}{element}{p.cause}", p.line))
+    evidence = robot_evidence(robot, options, meshes)  # type: ignore[arg-type]
+    out: list[Finding] = list(robot.findings_of(None))
+    for link in robot.links:
+        ev = evidence.links[link.name]
+        out.extend(robot.findings_of(link.name))
+        out.extend(value_findings(ev))
+        out.extend(ev.unresolved)
     return out
 
 
@@ -225,18 +214,22 @@ def lumped_findings(group: FixedGroup, robot: Robot) -> list[Finding]:
         if r.mass == 0 and not np.any(r.inertia):
             continue
         try:
-            mp = MassProperties(r.mass, r.com, r.inertia)
-        except ValueError:
+            with np.errstate(all="raise"):
+                mp = MassProperties(r.mass, r.com, r.inertia).transformed(pose)
+        except (ValueError, FloatingPointError, np.linalg.LinAlgError):
             mp = None
         if mp is None or not r.mass_ok:
-            return [Finding(group.root, "info", "lumped-mass",
-                            f"{head}; the merged body cannot be computed: a member's inertial "
-                            "is invalid")]
-        bodies.append(mp.transformed(pose))
-    total = combine(bodies)
-    moments, _ = total.principal()
-    ok = total.is_physical()
-    return [Finding(group.root, "info", "lumped-mass",
-                    f"{head}: merged body {total.mass:.4g} kg, CoM "
-                    f"{np.round(total.com, 4).tolist()} m, principal moments "
-                    f"{_moments(moments)} kg m^2{'' if ok else ' (not physical!)'}")]
+            return [Finding(Rule.LUMPED_MASS, group.root, f"{head}; the merged body cannot "
+                            "be computed: a member's inertial is invalid")]
+        bodies.append(mp)
+    try:
+        with np.errstate(all="raise"):
+            total = combine(bodies)
+            moments, _ = total.principal()
+            ok = total.is_physical()
+    except (ValueError, FloatingPointError, np.linalg.LinAlgError):
+        return [Finding(Rule.LUMPED_MASS, group.root, f"{head}; the merged body cannot be "
+                        "computed: its members' values overflow")]
+    return [Finding(Rule.LUMPED_MASS, group.root, f"{head}: merged body {total.mass:.4g} kg, "
+                    f"CoM {np.round(total.com, 4).tolist()} m, principal moments "
+                    f"{moments_text(moments)} kg m^2{'' if ok else ' (not physical!)'}")]

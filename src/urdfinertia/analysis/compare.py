@@ -238,7 +238,7 @@ def compare_with_geometry(path: str | Path, options: FixOptions | None = None,
     if meshes is None:
         meshes = mesh_library(options.package_dirs, options.max_faces)
     if fix_result is None:
-        robot, data = read_description(path, lenient=True)
+        robot, data = read_description(path)
         fix_result = fix_robot(robot, data, every_link(options), meshes)
     if verdicts is None:
         verdicts = link_verdicts(fix_result.robot, options, meshes)
@@ -264,8 +264,8 @@ def compare_files(path_a: str | Path, path_b: str | Path, *,
                   tol_com: float = DEFAULT_TOL_COM, tol_inertia: float = DEFAULT_TOL_INERTIA,
                   tol_mass: float = DEFAULT_TOL_MASS) -> list[LinkComparison]:
     """Inertials of URDF A against URDF B, links matched by name (A's order, then B's)."""
-    robot_a, _ = read_description(path_a, lenient=True)
-    robot_b, _ = read_description(path_b, lenient=True)
+    robot_a, _ = read_description(path_a)
+    robot_b, _ = read_description(path_b)
     in_a = {link.name: link.inertial for link in robot_a.links}
     in_b = {link.name: link.inertial for link in robot_b.links}
     names = list(in_a) + [n for n in in_b if n not in in_a]

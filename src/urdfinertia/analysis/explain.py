@@ -32,8 +32,8 @@ from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.model import Robot
 from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.findings import Finding, finding_dict
 from urdfinertia.inertia.massprops import MassProperties, combine
-from urdfinertia.plan.compute import compute_link
 from urdfinertia.plan.fix import link_verdict
 from urdfinertia.plan.policy import every_link
 from urdfinertia.plan.results import LinkResult
@@ -88,7 +88,7 @@ class Breakdown:
     moments: np.ndarray  # (3,) principal moments of ``total``, ascending, kg m^2
     axes: np.ndarray  # (3, 3) principal axes as columns, in the link frame
     elements: tuple[ElementBreakdown, ...]
-    warnings: tuple[str, ...] = ()
+    findings: tuple[Finding, ...] = ()
     geometry_total: MassProperties | None = None
     decision: str = ""
     verdict: LinkResult | None = None
@@ -148,7 +148,7 @@ def link_breakdown(result: LinkResult, verdict: LinkResult | None = None) -> Bre
         elements.append(ElementBreakdown(element, parts))
     total_moments, total_axes = total.principal()
     return Breakdown(result.name, result.geometry, str(result.assembly.mass_source), total,
-                     total_moments, total_axes, tuple(elements), result.warnings,
+                     total_moments, total_axes, tuple(elements), verdict.findings,
                      geometry_total=own, decision=verdict.decision, verdict=verdict,
                      choice=result.choice)
 
@@ -170,12 +170,11 @@ def explain_link(robot: Robot, name: str, options: FixOptions | None = None,
     if meshes is None:
         meshes = mesh_library(options.package_dirs, options.max_faces)
     verdict = link_verdict(robot, name, options, meshes)
-    link = robot.link(name)
     try:
         if verdict.assembly is not None and verdict.assembly.parts:
             return link_breakdown(verdict)
         # fix keeps or repairs the link: its parts are the geometry's, the total fix's
-        result = compute_link(link, every_link(options), meshes, path.parent)
+        result = link_verdict(robot, name, every_link(options), meshes)
         return link_breakdown(result, verdict)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path, link=name) from None
@@ -213,7 +212,7 @@ def breakdown_dict(b: Breakdown) -> dict[str, Any]:
                   "principal_axes": b.axes.T.tolist()},
         "elements": [{**contribution_dict(e.element),
                       "parts": [contribution_dict(p) for p in e.parts]} for e in b.elements],
-        "warnings": list(b.warnings),
+        "findings": [finding_dict(f) for f in b.findings],
         "decision": b.decision,
         "geometry_choice": b.choice.as_dict() if b.choice is not None else None,
         "geometry_total": None if b.geometry_total is None else {

@@ -18,8 +18,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from urdfinertia.analysis.check import Finding
 from urdfinertia.descriptions.model import Robot
+from urdfinertia.findings import Finding
 from urdfinertia.plan.edits import TextEdit
 from urdfinertia.plan.results import LinkResult
 
@@ -59,6 +59,13 @@ class CheckedFile:
                 return r.planned
         return None
 
+    def keeps(self, finding: Finding) -> bool:
+        """``fix`` keeps the value ``finding`` is about on purpose (it says why)."""
+        for r in self.verdicts:
+            if r.name == finding.link:
+                return r.keeps(finding)
+        return finding.severity == "info"
+
     @property
     def new(self) -> list[Finding]:
         return [f for f, k in zip(self.findings, self.known, strict=True) if not k]
@@ -84,7 +91,7 @@ class Locator:
     def locate(self, finding: Finding) -> Location:
         if finding.line is not None:  # the finding knows its element's line (a reader problem)
             return self._first_tag_on(finding.line)
-        element = finding.rule.element
+        element = finding.rule.scope.value
         link = None
         if finding.link is not None:
             try:

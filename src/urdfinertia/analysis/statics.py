@@ -36,6 +36,7 @@ from urdfinertia.descriptions.model import Joint, Robot
 from urdfinertia.findings import Finding
 from urdfinertia.inertia.rotation import pose_matrix
 from urdfinertia.plan.results import LinkResult
+from urdfinertia.rules import Rule
 
 GRAVITY = 9.81
 #: needed torque above (1 - margin) x effort: warning
@@ -319,15 +320,15 @@ def statics_findings(robot: Robot, statics: Statics, margin: float = DEFAULT_MAR
         if load.passive or load.effort is None:
             continue
         if load.low > load.effort:
-            out.append(Finding(child, "error", "joint-cannot-hold",
+            out.append(Finding(Rule.JOINT_CANNOT_HOLD, child,
                                f"{needed}, above its effort limit {load.effort:g} "
                                f"{load.unit}", j.line))
         elif load.high > load.effort:
-            out.append(Finding(child, "warning", "joint-cannot-hold",
+            out.append(Finding(Rule.JOINT_MAY_NOT_HOLD, child,
                                f"{needed}: its effort limit {load.effort:g} {load.unit} "
                                "holds it only at the band's low end", j.line))
         elif load.high > (1 - margin) * load.effort:
-            out.append(Finding(child, "warning", "joint-effort-margin",
+            out.append(Finding(Rule.JOINT_EFFORT_MARGIN, child,
                                f"{needed}, {100 * load.high / load.effort:.0f} % of its "
                                f"effort limit {load.effort:g} {load.unit} (margin "
                                f"{100 * margin:.0f} %)", j.line))

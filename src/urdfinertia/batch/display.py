@@ -29,7 +29,7 @@ def prepare_display(urdf: Path, meshes: MeshLibrary, view: str, view_faces: int,
     if meshes.cache is None or (settings.jobs <= 1 and not settings.dask):
         return
     try:
-        robot, _ = read_description(urdf, lenient=True)
+        robot, _ = read_description(urdf)
     except UrdfInertiaError:
         return  # build_report says why
     paths, cap = display_paths(robot, meshes, view, view_faces)

@@ -180,17 +180,16 @@ def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
             from urdfinertia.render.results_json import fix_result_dict
 
             info = fix_result_dict(result)
-        warnings = tuple(f"{r.name}: {w}" for r in result.links for w in r.warnings)
-        done = {"dropped": "element dropped", "ignored": "value ignored",
-                "lenient": "read leniently"}
+        from urdfinertia.render.decisions import problem_lines, verdict_note_lines
+
         outcome = FileOutcome(
             source, robot=robot.name, links=len(result.links),
             recomputed=sum(r.status == "recomputed" for r in result.links),
-            changed=result.changed, warnings=warnings, document=result.output,
+            changed=result.changed, warnings=verdict_note_lines(result),
+            document=result.output,
             details=info, times=times, trace=tuple(meshes.trace), source_digest=digest,
             left=tuple(str(result.left_error(r)) for r in result.left),
-            problems=tuple(f"{p.describe(result.path)} ({done[p.kind]})"
-                           for p in result.problems),
+            problems=tuple(problem_lines(result)),
             reusable_error=meshes.failed_for_bytes_only(meshes.trace))
     except UrdfInertiaError as exc:
         # reading can fail for the environment (permissions); parsing and fixing for the

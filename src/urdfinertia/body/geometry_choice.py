@@ -47,7 +47,8 @@ if TYPE_CHECKING:
     from collections.abc import Sequence
 
     from urdfinertia.body.parts import MeshSource, Part
-    from urdfinertia.descriptions.model import GeometryRef, Link, Problem
+    from urdfinertia.descriptions.model import GeometryRef, Link
+    from urdfinertia.findings import Finding
 
 #: Kinds of geometry, least to most faithful to the body.
 KINDS = ("primitive", "hull", "mesh")
@@ -72,7 +73,7 @@ class Candidate:
     role: str  # "collision" | "visual" | "geom"
     refs: tuple[GeometryRef, ...]
     parts: tuple[Part, ...]
-    dropped: tuple[Problem, ...]
+    dropped: tuple[Finding, ...]
     kind: str
     volume: float  # m^3, cavities subtracted
     centroid: np.ndarray  # (3,) m
@@ -127,19 +128,19 @@ def _same(a: tuple[GeometryRef, ...], b: tuple[GeometryRef, ...]) -> bool:
 
 
 def usable_parts(link: Link, refs: Sequence[GeometryRef], meshes: MeshSource,
-                 urdf_dir: Path, found: list[Problem]) -> list[Part]:
+                 urdf_dir: Path, found: list[Finding]) -> list[Part]:
     """The parts of every element of ``refs`` that makes them; each that does not is
-    dropped with a problem appended to ``found``."""
+    dropped with a finding (the error's rule) appended to ``found``."""
     from urdfinertia.body.parts import geometry_parts
-    from urdfinertia.descriptions.model import Problem
+    from urdfinertia.findings import Finding
 
     parts: list[Part] = []
     for ref in refs:
         try:
             parts.extend(geometry_parts(ref, meshes, urdf_dir))
         except UrdfInertiaError as exc:
-            found.append(Problem(exc.code, exc.cause, line=exc.line or ref.line,
-                                 link=link.name, element=ref.label, kind="dropped"))
+            found.append(Finding(exc.rule, link.name, f"dropped: {exc.cause}",
+                                 exc.line or ref.line, ref.label))
     return parts
 
 
@@ -150,7 +151,7 @@ def evaluate(link: Link, role: str, refs: tuple[GeometryRef, ...], meshes: MeshS
     ``detail=False`` (nothing to choose and no CoM to hold it against) skips what needs the
     mesh files' points: the box diagonal (None) and hull detection (a mesh is "mesh").
     """
-    found: list[Problem] = []
+    found: list[Finding] = []
     parts = usable_parts(link, refs, meshes, urdf_dir, found)
     signed = [(-p.volume if p.cavity else p.volume) for p in parts]
     volume = float(sum(signed))

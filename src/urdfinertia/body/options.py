@@ -24,6 +24,8 @@ MASS_MODES = ("keep", "density")
 #: Which links ``fix`` recomputes (:mod:`urdfinertia.plan.policy`): "needed" (the links
 #: whose inertial is wrong), "all" (every link with geometry), "links" (those named).
 RECOMPUTE_MODES = ("needed", "all", "links")
+#: The regions realizability holds a written inertial in (``check --realizable``).
+REALIZABLE_METHODS = ("ellipsoid", "hull")
 #: Densities outside this range (kg/m^3) suggest a unit slip or a placeholder mass.
 PLAUSIBLE_DENSITY = (50.0, 25000.0)
 
@@ -63,6 +65,9 @@ class FixOptions:
     #: (:mod:`urdfinertia.plan.total_mass`); ``scale_kept`` scales every mass
     total_mass: float | None = None
     scale_kept: bool = False
+    #: the region the written inertials are held in for realizability (UI210):
+    #: "ellipsoid" (the geometry's bounding ellipsoid) or "hull" (its convex hull, slower)
+    realizable: str = "ellipsoid"
 
     def __post_init__(self) -> None:
         if self.geometry not in GEOMETRY_MODES:
@@ -78,6 +83,8 @@ class FixOptions:
         if self.total_mass is not None and not (math.isfinite(self.total_mass)
                                                 and self.total_mass > 0):
             raise ValueError("total_mass must be a positive number of kg")
+        if self.realizable not in REALIZABLE_METHODS:
+            raise ValueError(f"realizable must be one of {REALIZABLE_METHODS}")
 
 
 def select_geometry(link: Link, mode: str) -> tuple[str, tuple[GeometryRef, ...]]:

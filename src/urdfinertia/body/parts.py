@@ -37,6 +37,7 @@ from urdfinertia.inertia.polyhedron import mass_properties_from_integrals, solid
 from urdfinertia.mesh.limits import DEFAULT_MAX_FACES
 from urdfinertia.mesh.read.load import TriangleMesh, load_mesh
 from urdfinertia.mesh.repair.pipeline import RepairedMesh, repair_mesh
+from urdfinertia.rules import Rule
 
 if TYPE_CHECKING:
     from urdfinertia.mesh.solids import MeshSolids
@@ -143,7 +144,7 @@ def shape_solids(shape: Shape, meshes: MeshSource, urdf_dir: Path) -> list[BodyS
                 unit = solid.mass_properties(1.0)
             except ValueError as exc:
                 raise MeshError(f"mesh {shape.filename!r} gives no valid solid ({solid.method}): "
-                                f"{exc}", code="no-volume") from None
+                                f"{exc}", rule=Rule.MESH_NO_VOLUME) from None
             out.append(BodySolid(unit, solid.method, notes, solid.provenance,
                                  solid.error_estimate))
         return out
@@ -376,5 +377,5 @@ def _shelled_bodies(repaired: RepairedMesh, shape: Mesh, walls: Walls) -> list[B
             notes = (*notes, why)
         out.append(_shelled(found, walls, body.provenance, body.error_estimate, notes))
     if not out:
-        raise MeshError(f"mesh {shape.filename!r} encloses no volume", code="no-volume")
+        raise MeshError(f"mesh {shape.filename!r} encloses no volume", rule=Rule.MESH_NO_VOLUME)
     return out

@@ -53,7 +53,7 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
         with timer.stage("cache"):
             key, hit = cache.lookup_mesh(path, max_faces)
         if isinstance(hit, MeshError):
-            raise MeshError(hit.cause, code=hit.code)
+            raise MeshError(hit.cause, rule=hit.rule)
         if hit is not None:
             return hit
     with timer.stage("mesh read"):

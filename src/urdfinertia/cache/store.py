@@ -33,6 +33,10 @@ from urdfinertia.cache.digests import FileDigests, content_digest, file_digest
 from urdfinertia.cache.version import code_digest
 from urdfinertia.errors import MeshError
 from urdfinertia.mesh.limits import OVER_BUDGET_NOTE, max_mesh_bytes
+from urdfinertia.rules import Rule
+
+#: the codes an error entry may carry (an entry with another is not this version's)
+_RULE_CODES = frozenset(r.value for r in Rule)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -67,7 +71,7 @@ _ERROR_KEYS = {"format", "key", "faces", "solid_fields", "mesh_fields", "error",
 def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
     """The error :func:`load_mesh` raises, for a cache hit over the limit."""
     return MeshError(f"mesh {path} has {faces} faces, more than the limit "
-                     f"{max_faces} (raise it with --max-faces)", code="mesh-too-large")
+                     f"{max_faces} (raise it with --max-faces)", rule=Rule.MESH_TOO_LARGE)
 
 
 def cacheable(outcome: object, path: Path) -> bool:
@@ -454,10 +458,10 @@ def decode_entry(data: bytes, key: str) -> tuple[MeshSolids | MeshError, int] | 
         return None
     if "error" in header:
         cause, code = header["error"], header.get("code")
-        if not isinstance(cause, str) or not isinstance(code, str) or len(numbers) \
+        if not isinstance(cause, str) or code not in _RULE_CODES or len(numbers) \
                 or set(header) != _ERROR_KEYS:
             return None
-        return MeshError(cause, code=code), faces
+        return MeshError(cause, rule=Rule(code)), faces
     extras, mesh_extra = header.get("solids"), header.get("mesh")
     if not (isinstance(extras, list) and isinstance(mesh_extra, dict)):
         return None

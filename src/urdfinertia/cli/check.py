@@ -18,6 +18,7 @@ import argparse
 import json
 import sys
 from collections import Counter
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -25,7 +26,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from urdfinertia.analysis.baseline import Baseline, write_baseline
-from urdfinertia.analysis.check import SEVERITIES, Finding, check_description
+from urdfinertia.analysis.check import CheckResult, check_description
 from urdfinertia.analysis.locate import CheckedFile, locate_all
 from urdfinertia.analysis.statics import DEFAULT_MARGIN
 from urdfinertia.atomic import atomic_write_bytes
@@ -39,8 +40,10 @@ from urdfinertia.cli.options import (
 )
 from urdfinertia.descriptions.formats import is_description, read_bytes, robot_from_bytes
 from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.findings import SEVERITIES, Finding, finding_dict
 from urdfinertia.judge.realizability import METHODS
 from urdfinertia.plan.edits import slip_fixes
+from urdfinertia.plan.results import UNREAD
 from urdfinertia.plan.total_mass import DEFAULT_MASS_TOLERANCE
 from urdfinertia.render.annotations import annotation_lines
 from urdfinertia.render.sarif import sarif_document
@@ -68,7 +71,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "but they do not fail the run")
     p.add_argument("--write-baseline", type=Path, metavar="FILE",
                    help="record every error and warning found as the new baseline (exit 0)")
-    p.add_argument("--strict", action="store_true", help="warnings also make the exit code 1")
+    p.add_argument("--strict", action="store_true",
+                   help="warnings also make the exit code 1, except those on values fix "
+                        "keeps on purpose (each says why): check --strict passes on what "
+                        "fix writes")
     p.add_argument("--no-geometry", action="store_true",
                    help="check the written values only; read no mesh (skips CoM-in-box, "
                         "density and tensor-size checks, and fix's plan; unread meshes then "
@@ -112,20 +118,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_batch_arguments(p)
 
 
-def exit_code(findings: list[Finding], strict: bool, unverified: bool = False) -> int:
-    """1 on an error (a warning too with ``strict``) or when something was not verified."""
-    bad = {"error", "warning"} if strict else {"error"}
-    return 1 if unverified or any(f.severity in bad for f in findings) else 0
-
-
-#: Finding codes that say a link's geometry could not be read.
-UNREAD_CODES = frozenset({"mesh-unresolved", "geometry-unreadable"})
-
-
-def unverified_unknown(cf: CheckedFile) -> bool:
-    """Some link was not verified and the baseline does not know why."""
-    return any(f.code in UNREAD_CODES and f.link in cf.unverified
-               for f in cf.new)
+def exit_code(cf: CheckedFile, result: CheckResult, strict: bool) -> int:
+    """1 when a finding no baseline knows fails the run (:meth:`CheckResult.failing`: an
+    error, with ``strict`` a warning ``fix`` does not keep on purpose), a link was not
+    verified (and no baseline knows why), or ``fix`` would leave a link that needs
+    changing; else 0."""
+    new = {id(f) for f in cf.new}
+    if any(id(f) in new for f in result.failing(strict)):
+        return 1
+    if any(f.rule in UNREAD and f.link in cf.unverified for f in cf.new):
+        return 1
+    return 1 if result.left else 0
 
 
 def run(args: argparse.Namespace) -> int:
@@ -138,7 +141,8 @@ def run(args: argparse.Namespace) -> int:
         raise UrdfInertiaError("--total-mass takes a single description")
     options = FixOptions(geometry=args.geometry, package_dirs=dict(args.package_dir),
                          max_faces=args.max_faces, slips=not args.no_slips, spec=spec,
-                         total_mass=args.total_mass, scale_kept=args.scale_kept)
+                         total_mass=args.total_mass, scale_kept=args.scale_kept,
+                         realizable=args.realizable)
     # the meshes in parallel with -j (default: the cores), through the persistent cache
     meshes = None if args.no_geometry else single_file_library(args, options, list(args.urdf))
     baseline = (Baseline.load(args.baseline) if args.baseline is not None
@@ -146,28 +150,30 @@ def run(args: argparse.Namespace) -> int:
     engines = engine_request(args)
     checked: list[CheckedFile] = []
     plans: dict[Path, Any] = {}
+    codes = []
     for path in args.urdf:
         data = read_bytes(path)
         if args.skip_unknown_formats and not is_description(data, path):
             continue
-        robot = robot_from_bytes(data, path, lenient=True)
+        robot = robot_from_bytes(data, path)
         result = check_description(robot, meshes=meshes, options=options,
                                    geometry=meshes is not None,
                                    statics=not args.no_statics,
                                    effort_margin=args.effort_margin,
-                                   realizable=args.realizable,
                                    mass_tolerance=args.mass_tolerance)
-        findings = list(result.findings)
         if engines is not None:
-            findings += engines.findings(path, robot, options.package_dirs)
-        checked.append(CheckedFile(path, robot, findings, locate_all(robot, data, findings),
-                                   baseline.mark(findings, path),
-                                   frozenset(r.name for r in result.unverified),
-                                   result.links, slip_fixes(robot, data, result.links)))
+            result = replace(result, findings=result.findings + tuple(
+                engines.findings(path, robot, options.package_dirs)))
+        findings = list(result.findings)
+        cf = CheckedFile(path, robot, findings, locate_all(robot, data, findings),
+                         baseline.mark(findings, path),
+                         frozenset(r.name for r in result.unverified),
+                         result.links, slip_fixes(robot, data, result.links))
+        checked.append(cf)
+        codes.append(exit_code(cf, result, args.strict))
         if result.links:  # what fix would do: the verdicts fix carries out
             plans[path] = result.links
-    code = max((exit_code(cf.new, args.strict, unverified_unknown(cf)) for cf in checked),
-               default=0)
+    code = max(codes, default=0)
     if args.write_baseline is not None:
         n = write_baseline(args.write_baseline, [(cf.path, cf.findings) for cf in checked])
         print(f"{args.write_baseline}: baseline of {n} finding(s) written", file=sys.stderr)
@@ -223,8 +229,8 @@ def json_document(checked: list[CheckedFile], code: int, strict: bool,
 
     report = []
     for cf in checked:
-        rows = [{**vars(f), "rule": f.rule.id, "line": loc.line, "column": loc.column,
-                 "known": known, "fix": cf.decision_of(f.link)}
+        rows = [{**finding_dict(f), "line": loc.line, "column": loc.column,
+                 "known": known, "fix": cf.decision_of(f.link), "kept": cf.keeps(f)}
                 for f, loc, known in zip(cf.findings, cf.locations, cf.known, strict=True)]
         report.append({"file": str(cf.path), "robot": cf.robot.name,
                        "links": len(cf.robot.links), "counts": severity_counts(cf.findings),
@@ -244,7 +250,7 @@ def unverified_line(verdicts) -> str | None:
 
 
 def severity_counts(findings: list[Finding]) -> dict[str, int]:
-    counts = Counter(f.severity for f in findings)
+    counts = Counter(f.severity.value for f in findings)
     return {s: counts.get(s, 0) for s in SEVERITIES}
 
 

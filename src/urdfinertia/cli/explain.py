@@ -47,6 +47,10 @@ def run(args: argparse.Namespace) -> int:
     console.print(breakdown_table(breakdown))
     if breakdown.decision:
         console.print(f"fix: {breakdown.decision}", markup=False, highlight=False)
-    for warning in breakdown.warnings:
-        console.print(f"warning: {warning}")
+    from urdfinertia.rules import Severity
+
+    for f in breakdown.findings:
+        if f.severity != Severity.INFO:
+            console.print(f"{f.severity.value}: {f.rule.id} {f.code}: {f.message}",
+                          markup=False, highlight=False)
     return 0

@@ -152,8 +152,6 @@ def run(args: argparse.Namespace) -> int:
     _mass_summary(result, args.quiet)  # the robot's mass never changes silently
     if args.output is None and not args.in_place and plan is None:
         sys.stdout.buffer.write(result.output)  # a filter: -q only silences the table
-    for note in result.robot.notes:  # e.g. SDF <include>s, which are not followed
-        print(f"urdf-inertia: warning: {result.path}: {note}", file=sys.stderr)
     for line in problem_lines(result):
         print(f"urdf-inertia: warning: {line}", file=sys.stderr)
     if rewritten:

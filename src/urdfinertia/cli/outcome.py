@@ -32,10 +32,7 @@ def left_lines(result: FixResult) -> list[str]:
 
 
 def problem_lines(result: FixResult) -> list[str]:
-    """One line per problem read past, with what was done about it."""
-    done = {"dropped": "element dropped", "ignored": "value ignored",
-            "lenient": "read leniently"}
-    return [f"{p.describe(result.path)} ({done.get(p.kind, p.kind)})"
-            for p in result.problems]
+    """One line per thing read past (:func:`urdfinertia.render.decisions.problem_lines`)."""
+    from urdfinertia.render.decisions import problem_lines as lines
 
-
+    return lines(result)

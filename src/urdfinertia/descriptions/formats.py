@@ -69,8 +69,8 @@ class DescriptionFormat:
     name : short name, also :attr:`Robot.format` of what it reads ("urdf", "sdf", ...).
     roots : root element names that identify the format (``robot``, ``sdf``, ``mujoco``).
     suffixes : file suffixes, lower case, used when the root element does not decide.
-    read : (bytes, path) -> Robot; strict: refuses what ``fix`` cannot compute from.
-    read_lenient : (bytes, path) -> Robot; keeps non-finite and odd values for the linters.
+    read : (bytes, path) -> Robot; reads once, leniently: every value as written, with the
+        reader's findings (what it read past) in :attr:`Robot.findings`.
     patch : (bytes, new inertials) -> bytes; changes nothing but the inertial elements,
         and of an inertial with kept values only the derived values' text
         (:class:`NewInertial`).
@@ -80,7 +80,6 @@ class DescriptionFormat:
     roots: tuple[str, ...]
     suffixes: tuple[str, ...]
     read: Callable[[bytes, Path], Robot]
-    read_lenient: Callable[[bytes, Path], Robot]
     patch: Callable[[bytes, NewInertials], bytes]
     #: decides a file whose root element is shared with another format (xacro's <robot>)
     claims: Callable[[bytes, Path], bool] | None = None
@@ -179,23 +178,23 @@ def read_bytes(path: str | Path) -> bytes:
         raise UrdfError(f"cannot read: {exc.strerror or exc}", file=path) from None
 
 
-def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) -> Robot:
+def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
     """The robot model of a description's bytes, in whatever registered format it is."""
     path = Path(path)
-    fmt = detect_format(data, path)
-    return (fmt.read_lenient if lenient else fmt.read)(data, path)
+    return detect_format(data, path).read(data, path)
 
 
-def read_description(path: str | Path, *, lenient: bool = False) -> tuple[Robot, bytes]:
+def read_description(path: str | Path) -> tuple[Robot, bytes]:
     """Read a description file: its robot model and its original bytes.
 
-    ``lenient``: keep non-finite inertial values (as NaN/inf) for ``check`` and ``compare``
-    instead of refusing the file. The bytes are the document the robot was read from: for
-    a generating format (xacro) the expansion, which ``patch`` edits.
+    Every format reads once, leniently: inertial values as written (NaN, negative, absurd
+    values included, for the judgement), and what the reader read past as findings in
+    :attr:`Robot.findings`. The bytes are the document the robot was read from: for a
+    generating format (xacro) the expansion, which ``patch`` edits.
     """
     data = read_bytes(path)
     fmt = detect_format(data, Path(path))
-    robot = (fmt.read_lenient if lenient else fmt.read)(data, Path(path))
+    robot = fmt.read(data, Path(path))
     return robot, (fmt.expand(data, Path(path)) if fmt.expand is not None else data)
 
 

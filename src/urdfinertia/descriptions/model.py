@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from urdfinertia.findings import Finding
 from urdfinertia.inertia.rotation import pose_matrix
 
 
@@ -121,6 +122,26 @@ class Inertial:
         return r @ self.tensor() @ r.T
 
 
+#: Where a simulator takes the mass properties of a link without a complete inertial.
+IMPLICIT_SOURCES = ("geoms", "colliders")
+
+
+@dataclass(frozen=True)
+class Implicit:
+    """What the format's simulator computes for a link whose description gives no complete
+    inertial: MuJoCo from the body's geoms (``inertiafromgeom``), a USD engine from the
+    colliders (a MassAPI without mass or inertia).
+
+    source : "geoms" or "colliders". mass : the mass the description states (a USD
+    MassAPI's ``physics:mass`` without an inertia), kg, None when the simulator computes it
+    too. density : the density it states (kg/m^3), None when it states none.
+    """
+
+    source: str
+    mass: float | None = None
+    density: float | None = None
+
+
 @dataclass(frozen=True)
 class Link:
     name: str
@@ -131,14 +152,15 @@ class Link:
     #: the elements the format itself counts for inertia, when it has such a rule (MJCF:
     #: geoms whose group is in ``inertiagrouprange``); ``--geometry auto`` then uses them
     inertia_geometry: tuple[GeometryRef, ...] | None = None
-    #: what the reader wants said about this link (dropped elements, included files)
-    notes: tuple[str, ...] = ()
     #: the format asks its simulator to compute this inertial at load time (SDFormat
     #: ``<inertial auto="true">``): ``fix --keep-auto`` leaves it so
     auto_inertial: bool = False
     #: why this document cannot carry a new inertial for the link (MJCF: the body is
     #: defined in an included file, which ``fix`` does not write); None when it can
     read_only: str | None = None
+    #: what the simulator computes where ``inertial`` is None (or, for MJCF
+    #: ``inertiafromgeom="true"``, instead of it); None when it computes nothing
+    implicit: Implicit | None = None
 
 
 @dataclass(frozen=True)
@@ -162,41 +184,6 @@ class Joint:
     mimic: tuple[str, float, float] | None = None
 
 
-#: Kinds of :class:`Problem`: how the reader went on.
-PROBLEM_KINDS = ("dropped", "ignored", "lenient")
-
-
-@dataclass(frozen=True)
-class Problem:
-    """Something in a description read past instead of refusing the whole document.
-
-    kind : "dropped" (the element, e.g. one ``<collision>``, is left out of the model),
-        "ignored" (a value not needed for inertials could not be read: a joint origin,
-        an existing ``<inertial>``), "lenient" (read the way urdfdom reads it, e.g. a
-        comma between numbers or an XML declaration of version 0.0).
-    code : short category for reports ("bad-number", "zero-size", "unsupported-shape",
-        "unexpanded-substitution", "xml-declaration", ...).
-    element : what it is about ("collision[1]", "joint 'j1'", "inertial"), None for the
-        document as a whole.
-    """
-
-    code: str
-    cause: str
-    line: int | None = None
-    link: str | None = None
-    element: str | None = None
-    kind: str = "dropped"
-
-    def describe(self, file: str | Path | None) -> str:
-        """One line: ``file:line: link 'name' element: cause`` (the errors' layout)."""
-        where = str(file) if file is not None else "<input>"
-        if self.line is not None:
-            where += f":{self.line}"
-        link = f" link '{self.link}'" if self.link else ""
-        element = f" {self.element}" if self.element else ""
-        return f"{where}:{link}{element}{':' if link or element else ''} {self.cause}"
-
-
 @dataclass(frozen=True)
 class Robot:
     name: str
@@ -205,13 +192,13 @@ class Robot:
     path: Path | None = None
     #: the registered description format that read it ("urdf", ...): it also writes it
     format: str = "urdf"
-    #: what the reader read past, in document order (elements dropped, values ignored)
-    problems: tuple[Problem, ...] = ()
-    #: what the reader wants said about the document (SDF includes it does not follow)
-    notes: tuple[str, ...] = ()
-    #: what the reader could not read of the joints' motion (axis, limits, effort): only
-    #: whole-robot statics uses it, so ``fix`` does not print these
-    joint_notes: tuple[str, ...] = ()
+    #: what the reader has to say, in document order: elements dropped, values it could
+    #: not read, how it read what other loaders refuse (each a finding with its rule)
+    findings: tuple[Finding, ...] = ()
+
+    def findings_of(self, link: str | None) -> tuple[Finding, ...]:
+        """The reader's findings about ``link`` (None: about the document)."""
+        return tuple(f for f in self.findings if f.link == link)
 
     def link(self, name: str) -> Link:
         for link in self.links:

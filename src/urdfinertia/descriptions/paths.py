@@ -16,6 +16,7 @@ from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 from urdfinertia.errors import MeshError
+from urdfinertia.rules import Rule
 
 _PACKAGE_NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 #: ROS package names (REP 144 is stricter; this only keeps out '', '.', '..' and separators).
@@ -124,32 +125,32 @@ def resolve_mesh_path(
             name, _, rel = rel.partition("/")
         if not _PACKAGE_NAME_OK.match(name):
             raise MeshError(f"mesh URI {uri!r} does not name a valid ROS package",
-                            code="mesh-unresolved")
+                            rule=Rule.MESH_UNRESOLVED)
         root = _find_package_memo(name, urdf_dir, tuple(sorted(package_dirs.items())),
                                   os.environ.get("ROS_PACKAGE_PATH", ""),
                                   os.environ.get("AMENT_PREFIX_PATH", ""))
         if root is None:
             raise MeshError(
                 f"cannot resolve package '{name}' in {uri!r}: pass --package-dir {name}=PATH "
-                "or set ROS_PACKAGE_PATH", code="mesh-unresolved"
+                "or set ROS_PACKAGE_PATH", rule=Rule.MESH_UNRESOLVED
             )
         path = root / rel
     elif scheme == "model":
         name, rel = parsed.netloc, unquote(parsed.path).lstrip("/")
         if not _PACKAGE_NAME_OK.match(name):
             raise MeshError(f"mesh URI {uri!r} does not name a valid model",
-                            code="mesh-unresolved")
+                            rule=Rule.MESH_UNRESOLVED)
         root = find_model(name, urdf_dir, package_dirs)
         if root is None:
             raise MeshError(
                 f"cannot resolve model '{name}' in {uri!r}: pass --package-dir {name}=PATH "
-                "or set GZ_SIM_RESOURCE_PATH", code="mesh-unresolved"
+                "or set GZ_SIM_RESOURCE_PATH", rule=Rule.MESH_UNRESOLVED
             )
         path = root / rel
     elif scheme == "file":
         if parsed.netloc not in ("", "localhost"):
             raise MeshError(f"mesh URI {uri!r} names host '{parsed.netloc}': only local "
-                            "files are read", code="mesh-url")
+                            "files are read", rule=Rule.MESH_REFUSED)
         path = Path(unquote(parsed.path))
     elif scheme == "" or (len(scheme) == 1 and os.name == "nt"):
         path = Path(uri)
@@ -157,12 +158,12 @@ def resolve_mesh_path(
             path = urdf_dir / path
     else:
         raise MeshError(f"mesh URI {uri!r} uses scheme '{scheme}': only files are read",
-                        code="mesh-url")
+                        rule=Rule.MESH_REFUSED)
     try:
         info = path.stat()  # follows symbolic links, like every later read
     except (OSError, ValueError):
         raise MeshError(f"mesh file not found: {uri!r} (looked at {path})",
-                        code="mesh-missing") from None
+                        rule=Rule.MESH_UNRESOLVED) from None
     if not stat.S_ISREG(info.st_mode):
         # a FIFO, device or folder: reading could block forever or never end
         raise MeshError(f"mesh {uri!r} is not a regular file (looked at {path})")

@@ -24,7 +24,7 @@ from urdfinertia.errors import UrdfError
 from urdfinertia.hostile import hostile_xml_cause
 
 if TYPE_CHECKING:
-    from urdfinertia.descriptions.model import Problem
+    from urdfinertia.findings import Finding
 
 #: libxml2's nesting limit without XML_PARSE_HUGE (documented in the safety guide).
 MAX_XML_DEPTH = 256
@@ -63,7 +63,7 @@ def safe_parser() -> etree.XMLParser:
 
 
 def parse_document(data: bytes, file: str | Path, roots: tuple[str, ...],
-                   notes: list[Problem] | None = None) -> etree._Element:
+                   notes: list[Finding] | None = None) -> etree._Element:
     """Parse a description's bytes into an lxml root element, refusing hostile constructs.
 
     The one parsing path of every description format. Checked before lxml runs: size
@@ -73,7 +73,7 @@ def parse_document(data: bytes, file: str | Path, roots: tuple[str, ...],
     must be one of ``roots``.
 
     What urdfdom reads is read (see the module docstring); each such leniency is appended
-    to ``notes`` as a :class:`~urdfinertia.descriptions.model.Problem` of kind "lenient".
+    to ``notes`` as a :class:`~urdfinertia.findings.Finding` (``xml-read-leniently``).
     A document that is not XML, or is cut off inside its root element, stays an error.
     """
     if len(data) > MAX_DOCUMENT_BYTES:
@@ -94,10 +94,11 @@ def parse_document(data: bytes, file: str | Path, roots: tuple[str, ...],
         raise UrdfError(f"root element is <{root.tag}>, expected {expected}", file=file,
                         line=root.sourceline)
     if notes is not None and found:
-        from urdfinertia.descriptions.model import Problem
+        from urdfinertia.findings import Finding
+        from urdfinertia.rules import Rule
 
-        notes.extend(Problem(code, cause, line=line, kind="lenient")
-                     for code, cause, line in found)
+        notes.extend(Finding(Rule.XML_READ_LENIENTLY, None, cause, line)
+                     for _, cause, line in found)
     return root
 
 

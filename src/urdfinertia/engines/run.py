@@ -20,6 +20,7 @@ from urdfinertia.descriptions.model import Robot
 from urdfinertia.engines.prepare import prepare_urdf
 from urdfinertia.engines.silent import silent_findings
 from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.rules import Rule
 
 
 @dataclass(frozen=True)
@@ -145,7 +146,7 @@ class EngineCheck:
                  package_dirs: Mapping[str, Path] | None = None,
                  data: bytes | None = None) -> list[Finding]:
         if robot.format != "urdf":
-            return [Finding(None, "info", "engine-skipped",
+            return [Finding(Rule.ENGINE_SKIPPED, None,
                             f"engine checks read URDF only; this is {robot.format}")]
         data = read_bytes(path) if data is None else data
         out: list[Finding] = []
@@ -159,11 +160,11 @@ def outcome_findings(outcome: Outcome, robot: Robot, data: bytes, path: Path,
     spec = ENGINES[outcome.engine]
     label = spec.label
     if outcome.missing:
-        return [Finding(None, "info", "engine-missing",
+        return [Finding(Rule.ENGINE_MISSING, None,
                         f"{label} is not installed, not checked: pip install {spec.pip} "
                         "(or pip install 'urdfinertia[engines]')")]
     if outcome.result is None:
-        return [Finding(None, "error", "engine-crashed",
+        return [Finding(Rule.ENGINE_CRASHED, None,
                         f"{label} {outcome.failure} loading or stepping the robot"
                         f"{_tail(outcome.output)}")]
     r = outcome.result
@@ -173,21 +174,21 @@ def outcome_findings(outcome: Outcome, robot: Robot, data: bytes, path: Path,
         message = r["message"] or "refused"
         reasons = [ln for ln in engine_lines(outcome.output) if "rror" in ln]
         extra = (": " + " | ".join(reasons[-3:])[:400]) if reasons else ""
-        return [Finding(link, "error", "engine-refused",
+        return [Finding(Rule.ENGINE_REFUSED, link,
                         f"{label} refuses to load it: {_one_line(message)}{extra}")]
     out: list[Finding] = []
     if r["nan_time"] is not None:
-        out.append(Finding(None, "error", "engine-nan",
+        out.append(Finding(Rule.ENGINE_NAN, None,
                            f"{label}: joint speeds became NaN after {r['nan_time']:.3g} s of "
                            "a passive run (gravity, zero controls)"))
     for warning, count in sorted(r["warnings"].items()):
         severe = warning in _BAD_STATE
-        out.append(Finding(None, "error" if severe else "warning", "engine-unstable",
+        out.append(Finding(Rule.ENGINE_UNSTABLE if severe else Rule.ENGINE_WARNED, None,
                            f"{label} warned {warning} x{count} in a {r['seconds']:.3g} s "
                            f"passive run{' (it resets the simulation)' if severe else ''}"))
     for run in r["runaway"]:
         link = run["link"] if run["link"] in links else None
-        out.append(Finding(link, "error", "engine-runaway",
+        out.append(Finding(Rule.ENGINE_RUNAWAY, link,
                            f"{label}: joint '{run['joint']}' reached {run['speed']:.3g} rad/s "
                            f"(or m/s) after {run['time']:.3g} s of a passive run"))
     out.extend(silent_findings(outcome.engine, r, robot, data, path, outcome.output))
@@ -235,11 +236,11 @@ def regressions(before: Mapping[str, Outcome], after: Mapping[str, Outcome],
         label = ENGINES[name].label
         if old.accepted and not new.accepted:
             why = (new.result or {}).get("message") or new.failure or "refused"
-            out.append(Finding(None, "error", "engine-regression",
+            out.append(Finding(Rule.ENGINE_REGRESSION, None,
                                f"{label} loads the input but not the fixed output: "
                                f"{_one_line(str(why))}"))
         elif stable(old) and not stable(new):
-            out.append(Finding(None, "warning", "engine-regression",
+            out.append(Finding(Rule.ENGINE_LESS_STABLE, None,
                                f"{label} runs the input stably but not the fixed output"))
     return out
 

@@ -20,6 +20,7 @@ from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.kinematics import Kinematics
 from urdfinertia.descriptions.model import Robot
 from urdfinertia.engines.prepare import mujoco_compiler_options
+from urdfinertia.rules import Rule
 
 #: relative difference of principal moments that counts as a change (float32 in Bullet)
 _CHANGED = 1e-3
@@ -47,7 +48,7 @@ def _pybullet(result: dict, robot: Robot, output: str) -> list[Finding]:
     for name in _no_inertial_moving(robot):
         body = bodies.get(name)
         if body is not None and body["mass"] is not None and body["mass"] > 0:
-            out.append(Finding(name, "warning", "engine-default-inertial",
+            out.append(Finding(Rule.ENGINE_DEFAULT_INERTIAL, name,
                                f"PyBullet gives this link without <inertial> "
                                f"{body['mass']:g} kg and inertia diagonal "
                                f"{_fmt(body['inertia'])} kg m^2"))
@@ -62,7 +63,7 @@ def _pybullet(result: dict, robot: Robot, output: str) -> list[Finding]:
             continue
         why = (" (its 'bad inertia tensor' test: A + B < C after diagonalising)"
                if link.name in zeroed else "")
-        out.append(Finding(link.name, "warning", "engine-changes-inertial",
+        out.append(Finding(Rule.ENGINE_CHANGES_INERTIAL, link.name,
                            f"PyBullet uses principal moments {_fmt(used)} instead of the "
                            f"written {_fmt(written)} kg m^2{why}"))
     return out
@@ -93,12 +94,12 @@ def _mujoco(result: dict, robot: Robot, data: bytes, path: Path) -> list[Finding
         carried = [m for m in kin.group_of(name).members
                    if m != name and robot.link(m).inertial is not None]
         if body is not None and body["mass"] and not carried:
-            out.append(Finding(name, "warning", "engine-default-inertial",
+            out.append(Finding(Rule.ENGINE_DEFAULT_INERTIAL, name,
                                f"MuJoCo computes {body['mass']:.4g} kg for this link without "
                                "<inertial> from its collision geometry at 1000 kg/m^3"))
     options = mujoco_compiler_options(data, path)
     if options.get("inertiafromgeom", "").lower() == "true":
-        out.append(Finding(None, "warning", "engine-changes-inertial",
+        out.append(Finding(Rule.ENGINE_CHANGES_INERTIAL, None,
                            "<mujoco><compiler inertiafromgeom=\"true\"> makes MuJoCo ignore "
                            "every <inertial> and use the collision geometry"))
     out.extend(_mujoco_bounds(robot, kin, options))
@@ -116,18 +117,18 @@ def _mujoco_bounds(robot: Robot, kin: Kinematics, options: dict[str, str]) -> li
             continue
         raw = RawInertial.from_inertial(link.inertial)
         if boundmass and np.isfinite(raw.mass) and raw.mass < boundmass:
-            out.append(Finding(link.name, "warning", "engine-changes-inertial",
+            out.append(Finding(Rule.ENGINE_CHANGES_INERTIAL, link.name,
                                f"MuJoCo's boundmass={boundmass:g} raises the written "
                                f"{raw.mass:.4g} kg"))
         moments = _principal(link)
         if moments is None:
             continue
         if boundinertia and moments[0] < boundinertia:
-            out.append(Finding(link.name, "warning", "engine-changes-inertial",
+            out.append(Finding(Rule.ENGINE_CHANGES_INERTIAL, link.name,
                                f"MuJoCo's boundinertia={boundinertia:g} raises principal "
                                f"moments {_fmt(moments)} kg m^2"))
         if balance and moments[0] + moments[1] < moments[2]:
-            out.append(Finding(link.name, "warning", "engine-changes-inertial",
+            out.append(Finding(Rule.ENGINE_CHANGES_INERTIAL, link.name,
                                f"MuJoCo's balanceinertia replaces principal moments "
                                f"{_fmt(moments)} kg m^2 (A + B < C) instead of refusing them"))
     return out
@@ -154,6 +155,6 @@ def _parser_errors(output: str, robot: Robot, label: str) -> list[Finding]:
         named = re.search(r"Link \[([^\]]+)\]", text + " " + nxt)
         link = named.group(1) if named and named.group(1) in {
             lk.name for lk in robot.links} else None
-        out.append(Finding(link, "warning", "engine-changes-inertial",
+        out.append(Finding(Rule.ENGINE_CHANGES_INERTIAL, link,
                            f"{label}'s URDF parser: {text} (it loads the robot anyway)"))
     return out

@@ -135,7 +135,9 @@ class Limits:
     of its diagonal; com_slip: the CoM x1e-3 edit needs the written one this many diagonals
     outside. ratio : tensor trace within this factor of the solid's either way.
     band : the error bar: the relative Frobenius difference from the solid's tensor an
-    edit may have.
+    edit may have. edited_density : (lo, hi) kg/m^3: an edit that changes the mass must
+    give a density a robot part has (narrower than ``density``, what any material has: a
+    correction must make the value fit the body, not only land inside a window).
     """
 
     density: tuple[float, float] = (50.0, 25000.0)
@@ -145,6 +147,7 @@ class Limits:
     #: a CoM is taken as written in millimetres only when it lies farther than this many
     #: box diagonals outside the geometry (nearer, it is a modelling error, not a unit)
     com_slip: float = 10.0
+    edited_density: tuple[float, float] = (100.0, 10000.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -332,19 +335,21 @@ def score_edit(edit: Edit, solid: Solid, limits: Limits) -> Scored:
     if diag > 0:
         fit += (float(np.linalg.norm(w.xyz - solid.centroid)) / diag / SIGMA_COM) ** 2
     score = fit + prior
-    why = _infeasible(w, tensor, geo, err, solid, limits)
+    why = _infeasible(w, tensor, geo, err, solid, limits, "mass" in edit.changed)
     return Scored(edit, score, not why, err, why)
 
 
 def _infeasible(w: Written, tensor: np.ndarray, geo: np.ndarray, err: float, solid: Solid,
-                limits: Limits) -> str:
+                limits: Limits, mass_edited: bool = False) -> str:
     if not diagnose_tensor(tensor).valid:
         return "tensor invalid"
-    lo, hi = limits.density
+    lo, hi = limits.edited_density if mass_edited else limits.density
     if not lo <= w.mass / solid.volume <= hi:
         return "implausible density"
     if _outside(w.xyz, solid) > limits.com_outside * solid.diagonal:
         return "CoM outside the geometry"
+    if float(np.trace(tensor)) > _ceiling(w.mass, w.xyz, solid):
+        return "radius of gyration beyond the part"
     ratio = float(np.trace(tensor) / np.trace(geo))
     if not 1 / limits.ratio <= ratio <= limits.ratio:
         return "tensor size implausible"
@@ -360,6 +365,15 @@ def placeholder_shaped(w: Written) -> bool:
     missed.)"""
     e = w.entries
     return bool(e[0] == e[3] == e[5])
+
+
+def _ceiling(mass: float, com: np.ndarray, solid: Solid) -> float:
+    """The largest trace of a tensor about ``com`` of ``mass`` inside the solid's box:
+    trace = 2 integral |r - c|^2 dm <= 2 m max |corner - c|^2."""
+    lo, hi = np.asarray(solid.lo), np.asarray(solid.hi)
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                        for z in (lo[2], hi[2])])
+    return 2 * mass * float(np.max(np.sum((corners - com) ** 2, axis=1)))
 
 
 def _outside(xyz: np.ndarray, solid: Solid) -> float:

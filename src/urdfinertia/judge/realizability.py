@@ -45,6 +45,7 @@ from urdfinertia.findings import Finding
 from urdfinertia.inertia.realizable import Ellipsoid as Region
 from urdfinertia.inertia.realizable import bounding_ellipsoid, ellipsoid_scale
 from urdfinertia.inertia.validity import is_placeholder
+from urdfinertia.rules import Rule
 
 #: A needed scale above this is a warning: no density inside the geometry gives the
 #: written values (the ellipsoid holds the geometry, so the geometry cannot either).
@@ -215,14 +216,14 @@ def realizability_findings(link: Link, cache: BoundsCache, urdf_dir: Path,
     far = (": the mass would lie outside the part by several of its sizes"
            if found.needed > SCALE_ERROR else "")
     if found.hull is None:
-        return [Finding(link.name, "warning", "not-realizable",
+        return [Finding(Rule.NOT_REALIZABLE, link.name,
                         f"no mass inside the geometry gives this inertial: its bounding "
                         f"ellipsoid (axes {axes} m) would have to be {found.scale:.3g}x as "
                         f"large to hold a body with the written CoM and tensor{far}", line)]
     h = found.hull
     bracket = (f"between {h.low:.4g}x and {h.high:.4g}x" if np.isfinite(h.high)
                else f"more than {h.low:.4g}x")
-    return [Finding(link.name, "warning", "not-realizable",
+    return [Finding(Rule.NOT_REALIZABLE, link.name,
                     f"no mass inside the geometry's convex hull gives this inertial (method: "
                     f"convex hull, an LP certificate, HiGHS): the hull would have to be "
                     f"{bracket} as large about its centroid to hold a body with the written "
@@ -239,7 +240,7 @@ def gyration_findings(link: Link) -> list[Finding]:
     radius = float(np.sqrt(max(np.trace(raw.inertia), 0.0) / (2 * raw.mass)))
     if radius <= GYRATION_LIMIT:
         return []
-    return [Finding(link.name, "warning", "gyration-implausible",
+    return [Finding(Rule.GYRATION_IMPLAUSIBLE, link.name,
                     f"{raw.mass:.4g} kg with trace {np.trace(raw.inertia):.4g} kg m^2: its mass "
                     f"would lie {radius:.3g} m (RMS) from its CoM, beyond any robot link's "
                     f"{GYRATION_LIMIT:g} m (the link has no geometry to check against)",

@@ -1,47 +1,47 @@
 """The slip search on a link: what the author meant, before any written value is thrown away.
 
-For a link ``check`` flags (:data:`SLIP_TRIGGERS`), the written inertial and the
-homogeneous solid of its geometry go to :func:`urdfinertia.inertia.slips.propose`; a
-proposal is one edit of the written values (``izz x1e-3``) that makes the inertial valid and
-plausible within the geometry's error bar and is clearly better than every other edit.
-``fix``'s policy applies it instead of deriving the tensor from the geometry
-(:mod:`urdfinertia.plan.policy`); ``--no-slips`` (``FixOptions.slips=False``) turns it off.
+For a link the judgement flags (:data:`SLIP_TRIGGERS`), the written inertial and the
+homogeneous solid of the geometry that represents the body (:mod:`.geometry`) go to
+:func:`urdfinertia.inertia.slips.propose`; a proposal is one edit of the written values
+(``izz x1e-3``) that makes the inertial valid and fits the body (CoM inside, radius of
+gyration within the part, a density a robot part has when the edit changes the mass, the
+tensor within the geometry's error bar) and is clearly better than every other edit.
+Whether a proposal that moves the robot's mass has a witness is the robot's judgement
+(:mod:`.robot`). ``--no-slips`` (``FixOptions.slips=False``) turns the search off.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 
-from urdfinertia.body.assemble import assemble
-from urdfinertia.body.bounds import BoundsCache, link_bounds
 from urdfinertia.body.errorbar import MODEL_P80
-from urdfinertia.body.mass import MassSource
-from urdfinertia.body.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
-from urdfinertia.body.parts import MeshSource, geometry_parts
+from urdfinertia.body.evidence import LinkEvidence
+from urdfinertia.body.options import PLAUSIBLE_DENSITY
 from urdfinertia.descriptions.model import Link
-from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.inertia.slips import Limits, Proposal, Solid, Written, propose
-from urdfinertia.judge.plausibility import (
+from urdfinertia.inertia.slips import Limits, Proposal, Written, propose
+from urdfinertia.judge.geometry import (
     COM_OUTSIDE_ERROR,
     COM_OUTSIDE_WARN,
     INERTIA_RATIO_LIMIT,
+    GeometryJudgement,
 )
+from urdfinertia.rules import Rule
 
 #: Findings after which the slip search runs: the written values are invalid, or
-#: implausible against the geometry.
+#: implausible against the body's geometry, or against the robot's masses.
 SLIP_TRIGGERS = frozenset({
-    "mass-absurd", "inertia-absurd", "inertia-not-symmetric", "inertia-not-positive-definite",
-    "triangle-inequality", "implausible-density", "com-outside-geometry",
-    "inertia-vs-geometry"})
+    Rule.MASS_ABSURD, Rule.INERTIA_ABSURD, Rule.INERTIA_NOT_SYMMETRIC,
+    Rule.INERTIA_NOT_POSITIVE_DEFINITE, Rule.TRIANGLE_INEQUALITY, Rule.IMPLAUSIBLE_DENSITY,
+    Rule.COM_OUTSIDE_GEOMETRY, Rule.COM_FAR_OUTSIDE_GEOMETRY, Rule.INERTIA_VS_GEOMETRY,
+    Rule.MASS_DISTRIBUTION})
 #: What ``check`` accepts, with the error bar of a tensor whose CoM is not known (the
 #: widest calibrated band): an edit outside it is not proposed.
-LIMITS = Limits(PLAUSIBLE_DENSITY, COM_OUTSIDE_WARN, INERTIA_RATIO_LIMIT, MODEL_P80,
-                COM_OUTSIDE_ERROR)
+LIMITS = Limits(density=PLAUSIBLE_DENSITY, com_outside=COM_OUTSIDE_WARN,
+                ratio=INERTIA_RATIO_LIMIT, band=MODEL_P80, com_slip=COM_OUTSIDE_ERROR)
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,63 +118,31 @@ def written_of(link: Link) -> Written | None:
                    np.array([i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz], dtype=np.float64))
 
 
-def link_solid(link: Link, meshes: MeshSource, cache: BoundsCache, options: FixOptions,
-               urdf_dir: Path) -> Solid | None:
-    """The homogeneous solid of the link's geometry (None: none, or it cannot be read)."""
-    _, refs = select_geometry(link, options.geometry)
-    if not refs:
-        return None
-    try:
-        bounds = link_bounds(link.collisions + link.visuals, cache, urdf_dir)
-        parts = [p for ref in refs for p in geometry_parts(ref, meshes, urdf_dir)]
-        if bounds is None or not parts:
-            return None
-        volume = sum(-p.volume if p.cavity else p.volume for p in parts)
-        unit = assemble(parts, MassSource("kept", 1.0)).total
-    except (UrdfInertiaError, ValueError):
-        return None
-    if not volume > 0:
-        return None
-    return Solid(volume, unit.com, unit.inertia, bounds[0], bounds[1])
-
-
-def _mass_fits_other_geometry(link: Link, mass: float, meshes: MeshSource,
-                              cache: BoundsCache, options: FixOptions, urdf_dir: Path) -> bool:
-    """The written mass has a plausible density in the link's other geometry (visual when
-    the collision was searched): the searched geometry is then not the body (contact
-    spheres, a marker, an envelope) and a mass slip is not what the numbers say.
-
-    A slip of the whole inertial (mass and tensor in grams) cannot be told from geometry
-    that is not the body by the numbers alone; the other geometry can tell them apart."""
-    role, _ = select_geometry(link, options.geometry)
-    other = {"collision": "visual", "visual": "collision"}.get(role)
-    if other is None:
-        return False
-    alternative = replace(options, geometry=other)
-    solid = link_solid(link, meshes, cache, alternative, urdf_dir)
-    if solid is None:
-        return False
-    lo, hi = PLAUSIBLE_DENSITY
-    return lo <= mass / solid.volume <= hi
-
-
-def find_slip(link: Link, codes: set[str], meshes: MeshSource, cache: BoundsCache,
-              options: FixOptions, urdf_dir: Path) -> SlipProposal | None:
-    """The slip proposal for a link flagged with ``codes``, when one is clear."""
-    if not options.slips or not codes & SLIP_TRIGGERS:
-        return None
+def finite_written(link: Link) -> Written | None:
+    """:func:`written_of` when every value is finite and the mass positive (a slip is
+    searched in such values only)."""
     w = written_of(link)
-    if w is None or not np.all(np.isfinite(np.concatenate((w.xyz, w.rpy, w.entries)))):
+    if w is None or not (math.isfinite(w.mass) and w.mass > 0) \
+            or not np.all(np.isfinite(np.concatenate((w.xyz, w.rpy, w.entries)))):
         return None
-    solid = link_solid(link, meshes, cache, options, urdf_dir)
-    if solid is None:
+    with np.errstate(all="ignore"):
+        if not np.isfinite(w.mass * float(np.sum(w.entries ** 2))):
+            return None
+    return w
+
+
+def find_slip(ev: LinkEvidence, rules: frozenset[Rule] | set[Rule],
+              judged: GeometryJudgement) -> SlipProposal | None:
+    """The slip proposal for a link flagged with ``rules``, when one is clear."""
+    if not ev.options.slips or not rules & SLIP_TRIGGERS:
+        return None
+    w = finite_written(ev.link)
+    solid = judged.solid
+    if w is None or solid is None or not solid.volume > 0:
         return None
     found = propose(w, solid, LIMITS)
     if found is None:
         return None
-    if "mass" in found.best.edit.changed and _mass_fits_other_geometry(
-            link, w.mass, meshes, cache, options, urdf_dir):
-        return None
     edit = found.best.edit
     after = MassProperties(edit.written.mass, edit.written.xyz, edit.tensor())
-    return SlipProposal(link.name, found, w, after)
+    return SlipProposal(ev.name, found, w, after)

@@ -10,7 +10,10 @@
   beyond the mirror map (which keeps all three). The finding is on the side that agrees
   worse with its geometry, and says which side agrees.
 
-``fix`` does not act on either: which link is right is the author's call.
+The judgement (:mod:`.robot`) acts on a copy: the copy's values are derived from its own
+geometry at the density of the link it was copied from. Twins that disagree are only said:
+which side is right is the author's call, unless one is ten times the other's mass
+(:mod:`.robot`'s mass distribution).
 """
 
 from __future__ import annotations
@@ -18,13 +21,9 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from urdfinertia.body.bounds import BoundsCache
-from urdfinertia.body.options import FixOptions
-from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import Link, Robot
 from urdfinertia.findings import Finding
@@ -36,7 +35,8 @@ from urdfinertia.inertia.slips import (
     placeholder_shaped,
     score_edit,
 )
-from urdfinertia.judge.slips import LIMITS, link_solid, written_of
+from urdfinertia.judge.slips import LIMITS, written_of
+from urdfinertia.rules import Rule
 
 #: Two inertials within this relative difference (every value) are the same (round-off).
 SAME_RTOL = 1e-6
@@ -117,29 +117,30 @@ def twin_names(name: str) -> list[str]:
     return [n for n in dict.fromkeys(out) if n != name]
 
 
-def twin_findings(robot: Robot, meshes: MeshLibrary, options: FixOptions,
-                  urdf_dir: Path | None = None) -> list[Finding]:
-    """Copies and mirror twins that disagree, in link order (module doc)."""
-    if urdf_dir is None:
-        urdf_dir = robot.path.parent if robot.path is not None else Path(".")
-    cache = BoundsCache(meshes)
-    folder = urdf_dir
-
-    def read(link: Link) -> Solid | None:
-        if not (link.collisions or link.visuals):
-            return None
-        return link_solid(link, meshes, cache, options, folder)
-
+def bodies_of(robot: Robot, solid_of: Callable[[Link], Solid | None]) -> dict[str, _Body]:
+    """The links with a finite written inertial, each with its solid read on demand."""
     bodies: dict[str, _Body] = {}
     for link in robot.links:
         w = written_of(link)
         if w is None or link.inertial is None:
             continue
-        raw = RawInertial.from_inertial(link.inertial)
-        if not (raw.mass_ok and raw.com_ok) or not np.all(np.isfinite(w.entries)):
-            continue
-        bodies[link.name] = _Body(link, raw, w, read)
-    return _copies(bodies) + _twins(bodies)
+        with np.errstate(all="ignore"):
+            raw = RawInertial.from_inertial(link.inertial)
+            if not (raw.mass_ok and raw.com_ok) or not np.all(np.isfinite(w.entries)) \
+                    or not np.all(np.isfinite(raw.inertia)):
+                continue
+        bodies[link.name] = _Body(link, raw, w, solid_of)
+    return bodies
+
+
+def copy_findings(bodies: dict[str, _Body]) -> list[tuple[Finding, str]]:
+    """Copies (module doc): each finding with the name of the link copied from."""
+    return _copies(bodies)
+
+
+def twin_findings(bodies: dict[str, _Body]) -> list[Finding]:
+    """Mirror twins that disagree (module doc), in link order."""
+    return _twins(bodies)
 
 
 def _values(b: _Body) -> np.ndarray:
@@ -172,7 +173,7 @@ def _copyable(b: _Body) -> bool:
     return b.raw.mass >= COPY_MIN_MASS and not placeholder_shaped(b.written)
 
 
-def _copies(bodies: dict[str, _Body]) -> list[Finding]:
+def _copies(bodies: dict[str, _Body]) -> list[tuple[Finding, str]]:
     out = []
     names = [n for n, b in bodies.items() if _copyable(b)]
     done: set[str] = set()
@@ -198,11 +199,12 @@ def _copies(bodies: dict[str, _Body]) -> list[Finding]:
                     or fits[n] - fits[source] < COPY_MARGIN:
                 continue
             how = _same(b, src)
-            out.append(Finding(n, "warning", "inertial-copied", (
+            out.append((Finding(Rule.INERTIAL_COPIED, n, (
                 f"inertial equals {source}'s ({how}) while their geometries differ "
                 f"(volume {b.solid.volume:.3g} vs {src.solid.volume:.3g} m^3); it fits "
                 f"{source}'s geometry better (score {fits[source]:.1f} vs {fits[n]:.1f}): "
-                f"copied from {source}?"), b.link.inertial.line if b.link.inertial else None))
+                f"copied from {source}?"), b.link.inertial.line if b.link.inertial else None,
+                "inertial"), source))
     return out
 
 
@@ -252,6 +254,6 @@ def _twin_finding(a: _Body, b: _Body) -> Finding:
         verdict = (f"{better.link.name}'s agrees with the geometry (score "
                    f"{min(fa, fb):.1f} against {max(fa, fb):.1f})")
     why = _disagreement(worse, better)
-    return Finding(worse.link.name, "warning", "twins-disagree", (
+    return Finding(Rule.TWINS_DISAGREE, worse.link.name, (
         f"mirror twin of {better.link.name} with the same geometry, but {why} there: "
         f"{verdict}"), worse.link.inertial.line if worse.link.inertial else None)

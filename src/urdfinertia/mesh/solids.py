@@ -23,6 +23,7 @@ from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.polyhedron import mass_properties_from_integrals, solid_integrals
 from urdfinertia.mesh.read.load import TriangleMesh
 from urdfinertia.mesh.repair.pipeline import RepairedMesh, repair_mesh
+from urdfinertia.rules import Rule
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,7 +103,7 @@ def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
             candidates.append(Solid(volume, first, second, body.method, body.error_estimate,
                                     body.notes, body.provenance))
     if not candidates:
-        raise MeshError("mesh encloses no volume", code="no-volume")
+        raise MeshError("mesh encloses no volume", rule=Rule.MESH_NO_VOLUME)
     notes = repaired.notes
     if len(candidates) < len(repaired.bodies):
         notes += (f"dropped {len(repaired.bodies) - len(candidates)} bodies with no net "

@@ -1,120 +1,120 @@
-"""The ``fix`` job: recompute the links' inertials from their geometry and patch the file.
+"""The ``fix`` job: judge the robot, plan every link, carry the plan out, patch the file.
 
-Which links, and which of their values are kept, is :mod:`urdfinertia.plan.policy`'s rule.
+The data flow, one way: the robot model and its geometry (:mod:`urdfinertia.body.evidence`)
+-> the judgement, with the whole robot as evidence (:mod:`urdfinertia.judge.robot`) -> the
+plan of every link (:mod:`.policy`: **where a link's verdict is made**) -> carrying it out
+(:mod:`.execute`) -> target masses met (:mod:`.total_mass`) -> the patched document.
+:func:`link_verdicts` stops before the document: it is what ``check``, ``compare``,
+``explain``, ``report`` and the library render. Nothing here touches the file system
+except :func:`fix_file`'s reading; writing the result is the caller's job
+(:mod:`.save`).
 
-This module orchestrates the robot: the plan (:mod:`.policy`), each link's decision carried
-out (:mod:`.apply`, which computes a link through :mod:`.compute`), the strict refusal and
-the patched document. Imports go one way, fix -> apply -> compute (an import-linter
-contract). Nothing here touches the file system except through :func:`fix_file`'s reading;
-writing the result is the caller's job (:mod:`atomic`).
-
-Fault isolation (:mod:`.compute`): a link with nothing usable left is left exactly as it
-was, with the reason. Whether that is acceptable (exit 1) or all-or-nothing (``--strict``)
-is the caller's decision.
+Fault isolation: a link with nothing usable is left exactly as it was, with the reason.
+Whether that is acceptable (exit 1) or all-or-nothing (``--strict``) is the caller's
+decision: :meth:`~.results.FixResult.strict_refusal` is that policy over the findings.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from urdfinertia.body.options import FixOptions
-from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.plan.compute import compute_link, problem_code  # noqa: F401  (re-exported)
+from urdfinertia.errors import UrdfError, UrdfInertiaError
+from urdfinertia.findings import Finding
 from urdfinertia.plan.results import FixResult, LinkResult
-from urdfinertia.plan.total_mass import TargetOutcome, mass_targets, meet_targets
+from urdfinertia.plan.total_mass import TargetOutcome, mass_change_finding, meet_targets
+from urdfinertia.rules import Rule
 
 if TYPE_CHECKING:
     from urdfinertia.cache.library import MeshLibrary
-    from urdfinertia.descriptions.model import Problem, Robot
+    from urdfinertia.descriptions.model import Robot
+    from urdfinertia.judge.robot import Judgement
 
 
-def link_verdicts(robot: Robot, options: FixOptions,
-                  meshes: MeshLibrary | None = None) -> tuple[LinkResult, ...]:
-    """Every link's verdict: the one answer ``fix``, ``check``, ``compare``, ``explain``,
-    ``report`` and the Python API render.
+@dataclass(frozen=True, eq=False)
+class Verdicts:
+    """A robot's verdicts: every link's, the targets met and what is said of the robot."""
 
-    The plan (:func:`urdfinertia.plan.policy.plan_robot`: findings and decision) carried
-    out link by link (:func:`urdfinertia.plan.apply.apply_decision`), then scaled to the
-    target masses asked for (:mod:`urdfinertia.plan.total_mass`); nothing is written.
-    """
-    return _verdicts(robot, options, meshes)[0]
+    links: tuple[LinkResult, ...]
+    targets: tuple[TargetOutcome, ...]
+    findings: tuple[Finding, ...]
+    judgement: Judgement
 
 
-def _verdicts(robot: Robot, options: FixOptions, meshes: MeshLibrary | None,
-              ) -> tuple[tuple[LinkResult, ...], tuple[TargetOutcome, ...]]:
+def verdicts(robot: Robot, options: FixOptions, meshes: MeshLibrary | None = None,
+             ) -> Verdicts:
+    """Judge, plan and carry out every link of ``robot`` (module doc); nothing is written."""
+    from urdfinertia.body.evidence import robot_evidence
     from urdfinertia.cache.library import mesh_library
-    from urdfinertia.plan.apply import apply_decision
+    from urdfinertia.judge.robot import judge_robot
+    from urdfinertia.plan.execute import execute
     from urdfinertia.plan.policy import plan_robot
 
     path = robot.path or Path("robot.urdf")
     if meshes is None:
         meshes = mesh_library(options.package_dirs, options.max_faces)
-    urdf_dir = path.parent
     if options.spec is not None:
         options.spec.check_links(robot)
-    by_link: dict[str, list[Problem]] = {}
-    for problem in robot.problems:
-        if problem.link is not None:
-            by_link.setdefault(problem.link, []).append(problem)
-    plan = plan_robot(robot, options, meshes, urdf_dir)
-    results = []
-    for link in robot.links:
-        try:
-            results.append(apply_decision(link, plan[link.name], options, meshes, urdf_dir,
-                                          tuple(by_link.get(link.name, ()))))
-        except UrdfInertiaError as exc:
-            raise exc.with_context(file=path, link=link.name) from None
-    return meet_targets(robot, results, options)
+    evidence = robot_evidence(robot, options, meshes)
+    try:
+        judgement = judge_robot(evidence)
+        plans = plan_robot(judgement)
+    except UrdfInertiaError as exc:
+        raise exc.with_context(file=path) from None
+    results = tuple(execute(evidence.links[link.name], judgement.link(link.name),
+                            plans[link.name]) for link in robot.links)
+    results, targets = meet_targets(robot, results, options)
+    said = [*robot.findings_of(None), *judgement.findings]
+    said += [Finding(Rule.MASS_TARGET_MET, None, str(t)) for t in targets]
+    change = mass_change_finding(results)
+    if change is not None and not targets:
+        said.append(change)
+    return Verdicts(results, targets, tuple(said), judgement)
+
+
+def link_verdicts(robot: Robot, options: FixOptions,
+                  meshes: MeshLibrary | None = None) -> tuple[LinkResult, ...]:
+    """Every link's verdict: the one answer ``fix``, ``check``, ``compare``, ``explain``,
+    ``report`` and the Python API render (:func:`verdicts`)."""
+    return verdicts(robot, options, meshes).links
 
 
 def link_verdict(robot: Robot, name: str, options: FixOptions,
                  meshes: MeshLibrary | None = None) -> LinkResult:
-    """One link's verdict, as :func:`link_verdicts` gives it, computing that link only."""
-    from urdfinertia.body.bounds import BoundsCache
-    from urdfinertia.cache.library import mesh_library
-    from urdfinertia.descriptions.kinematics import Kinematics
-    from urdfinertia.plan.apply import apply_decision
-    from urdfinertia.plan.policy import decide_link
-
-    if mass_targets(robot, options):  # a target weighs every link together
-        return next(r for r in link_verdicts(robot, options, meshes) if r.name == name)
-    path = robot.path or Path("robot.urdf")
-    if meshes is None:
-        meshes = mesh_library(options.package_dirs, options.max_faces)
-    if options.spec is not None:
-        options.spec.check_links(robot)
-    link = robot.link(name)
-    problems = tuple(p for p in robot.problems if p.link == name)
-    try:
-        decision = decide_link(link, robot, Kinematics(robot), options, meshes,
-                               BoundsCache(meshes), path.parent)
-        return apply_decision(link, decision, options, meshes, path.parent, problems)
-    except UrdfInertiaError as exc:
-        raise exc.with_context(file=path, link=name) from None
+    """One link's verdict, as :func:`link_verdicts` gives it (the robot is judged as a
+    whole: a link's verdict depends on its twins, conventions and the robot's masses)."""
+    for r in link_verdicts(robot, options, meshes):
+        if r.name == name:
+            return r
+    raise KeyError(name)
 
 
 def fix_robot(robot: Robot, data: bytes, options: FixOptions,
               meshes: MeshLibrary | None = None) -> FixResult:
-    """Every link's verdict (:func:`link_verdicts`) and the patched document."""
-    from urdfinertia.descriptions.formats import format_of
+    """Every link's verdict (:func:`verdicts`) and the patched document."""
+    from urdfinertia.descriptions.formats import VALUES, NewInertial, format_of
 
     path = robot.path or Path("robot.urdf")
-    results, targets = _verdicts(robot, options, meshes)
+    found = verdicts(robot, options, meshes)
+    missing = [f for f in found.findings if f.rule == Rule.MISSING_LAYER]
+    if missing:  # the stage was read incomplete: an override of it would be too
+        more = f" (and {len(missing) - 1} more)" if len(missing) > 1 else ""
+        raise UrdfError(missing[0].message + more, file=path)
     if options.strict:
-        refusal = FixResult(path, robot, results, data, data).strict_refusal()
+        refusal = FixResult(path, robot, found.links, data, data, found.targets,
+                            found.findings).strict_refusal()
         if refusal is not None:
             raise refusal
-    from urdfinertia.descriptions.formats import VALUES, NewInertial
-
     # the writer is told what was derived: kept values keep their bytes
     new = {r.name: NewInertial(r.assembly.total, r.size, frozenset(r.derived) or VALUES)
-           for r in results if r.assembly is not None}
+           for r in found.links if r.changed and r.assembly is not None}
     try:
         output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path) from None
-    return FixResult(path, robot, results, data, output, targets)
+    return FixResult(path, robot, found.links, data, output, found.targets, found.findings)
 
 
 def fix_file(path: str | Path, options: FixOptions | None = None,
@@ -128,4 +128,3 @@ def fix_file(path: str | Path, options: FixOptions | None = None,
 
     robot, data = read_description(path)
     return fix_robot(robot, data, options or FixOptions(), meshes)
-

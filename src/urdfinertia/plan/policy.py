@@ -1,79 +1,76 @@
-"""Which links ``fix`` recomputes, and which of their values it keeps: the one home of that rule.
+"""Which links ``fix`` changes, and which of their values it keeps: **where a link's verdict
+is made**.
 
-The default (``recompute="needed"``) recomputes only the links whose inertial is wrong, as
-judged by the same rules ``check`` reports (:mod:`urdfinertia.judge.plausibility`): missing
-on a moving link, invalid (NaN, non-positive mass, not positive definite, triangle
-inequality, a zero tensor with a mass), a placeholder, or implausible against the geometry
-(implied density, CoM outside the geometry, tensor size, unit slips). Every other link is
-kept byte for byte. A recomputed link keeps what is trustworthy: a plausible mass, and a CoM
-inside the geometry (the tensor is then the homogeneous solid's own central tensor written at
-the kept CoM: measured, shifting it there with the parallel-axis term makes the tail worse).
+:func:`plan_robot` decides every link from the judgement (:mod:`urdfinertia.judge.robot`)
+and the options, fallbacks included: the :class:`LinkPlan` says what ``fix`` does, why (the
+rules it answers, or the rule that says why it keeps or leaves the link), and carries the
+values it will write. Carrying a plan out (:mod:`.execute`) only assembles what the plan
+holds; nothing decides again after this.
 
-Massless links stay massless: a link without ``<inertial>`` or with mass 0 that does not
-move (on a fixed joint, or the root) is a frame whose mass is lumped elsewhere. A link
-whose inertial is invalid but which has no geometry gets ``--repair-only``'s minimal lift.
-
-Nothing is derived from geometry that is not the body (:func:`decide_from_findings`): a
-link whose geometry could not be read, or whose implied density no material has, keeps a
-valid inertial as written and gets the minimal repair of an invalid one.
-
-``recompute="all"`` recomputes every link with geometry; ``recompute="links"`` the links
-named. Links named in a spec are always recomputed. Every command renders the same
-decision (:class:`~urdfinertia.plan.results.LinkResult`).
+The default (``recompute="needed"``): a written value is kept unless the judgement shows
+it wrong. Invalid values (NaN, non-positive mass, not positive definite, the triangle
+inequality, a zero tensor with a mass) are always changed: by undoing a slip, else by
+deriving from the geometry, else by the minimal repair. A placeholder, a missing inertial
+on a moving link, or values the body's geometry contradicts are derived from the geometry
+that best represents the body (:mod:`urdfinertia.body.geometry_choice`), keeping a
+plausible mass and a CoM inside the geometry. Geometry that is not the body (the
+judgement's ``not_body``) gives no evidence: a valid value is kept, said so. Massless
+frames stay massless. ``recompute="all"`` (``--all``) and ``"links"`` (``--links``) derive
+every link (or those named) with geometry, and still give an invalid value the minimal
+repair where they derive nothing. Links named in a spec are always recomputed.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
-from pathlib import Path
 
 import numpy as np
 
-from urdfinertia.body.bounds import BoundsCache
-from urdfinertia.body.options import PLAUSIBLE_DENSITY, FixOptions, select_geometry
-from urdfinertia.cache.library import MeshLibrary
-from urdfinertia.descriptions.inertial import RawInertial
-from urdfinertia.descriptions.kinematics import Kinematics
-from urdfinertia.descriptions.model import Link, Robot
-from urdfinertia.judge.plausibility import (
-    Bounds,
-    Finding,
-    geometry_judgement,
-    reference_findings,
-    unit_slip,
-    value_findings,
-)
-from urdfinertia.judge.slips import SLIP_TRIGGERS, SlipProposal, find_slip
+from urdfinertia.body.assemble import Assembly, assemble
+from urdfinertia.body.evidence import LinkEvidence, RobotEvidence
+from urdfinertia.body.geometry_choice import Candidate, GeometryChoice, choose
+from urdfinertia.body.mass import MassSource, link_mass_source
+from urdfinertia.body.options import PLAUSIBLE_DENSITY
+from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.findings import Finding
+from urdfinertia.judge.geometry import inside
+from urdfinertia.judge.robot import Judgement, LinkJudgement
+from urdfinertia.judge.slips import SLIP_TRIGGERS, SlipProposal
 from urdfinertia.plan.results import Action
+from urdfinertia.rules import Rule
 
-#: Findings that make ``fix`` recompute a link by default.
-RECOMPUTE_CODES = (
-    "missing-inertial", "mass-not-finite", "mass-not-positive", "com-not-finite",
-    "inertia-not-finite", "inertia-zero", "inertia-not-symmetric",
-    "inertia-not-positive-definite", "triangle-inequality", "placeholder-inertia",
-    "com-outside-geometry", "implausible-density", "inertia-vs-geometry",
+#: Findings that make ``fix`` change a link by default.
+RECOMPUTE = (
+    Rule.MISSING_INERTIAL, Rule.MISSING_INERTIAL_MERGED, Rule.MASS_NOT_FINITE,
+    Rule.MASS_NOT_POSITIVE, Rule.MASS_ZERO_MERGED, Rule.COM_NOT_FINITE,
+    Rule.INERTIA_NOT_FINITE, Rule.INERTIA_ZERO, Rule.INERTIA_ZERO_MERGED,
+    Rule.INERTIA_NOT_SYMMETRIC, Rule.INERTIA_NOT_POSITIVE_DEFINITE, Rule.TRIANGLE_INEQUALITY,
+    Rule.PLACEHOLDER_INERTIA, Rule.MASS_ABSURD, Rule.INERTIA_ABSURD,
+    Rule.COM_OUTSIDE_GEOMETRY, Rule.COM_FAR_OUTSIDE_GEOMETRY, Rule.IMPLAUSIBLE_DENSITY,
+    Rule.INERTIA_VS_GEOMETRY, Rule.MASS_DISTRIBUTION, Rule.INERTIAL_COPIED,
+    Rule.USD_MASS_WITHOUT_TENSOR,
 )
-#: Findings after which the written mass is not kept (and with it the CoM). A usable mass is
-#: always kept by default, even at an implausible density: in example-robot-data every such
-#: density comes from collision geometry that is not the part (a 0.29 kg laser in a 3 cm^3
-#: cylinder, a 1 g IMU in a 1 mm cube), never from a mass in grams; the robot's weighed
-#: masses are the best values known and its total mass must not change silently.
-MASS_DISTRUST = frozenset({"missing-inertial", "mass-not-finite", "mass-not-positive"})
-#: Findings that a unit slip of the geometry (mesh in mm without scale) explains: the
+#: Findings after which the written mass is not kept (and with it the CoM).
+MASS_DISTRUST = frozenset({Rule.MISSING_INERTIAL, Rule.MISSING_INERTIAL_MERGED,
+                           Rule.MASS_NOT_FINITE, Rule.MASS_NOT_POSITIVE,
+                           Rule.MASS_ZERO_MERGED, Rule.MASS_ABSURD, Rule.INERTIAL_COPIED})
+#: Findings that a unit slip of the geometry (a mesh in mm without scale) explains: the
 #: geometry, not the inertial, is wrong, and recomputing from it would make things worse.
-GEOMETRY_SLIP_CODES = frozenset({"implausible-density", "inertia-vs-geometry"})
+GEOMETRY_SLIP = frozenset({Rule.IMPLAUSIBLE_DENSITY, Rule.INERTIA_VS_GEOMETRY})
 #: Findings after which the written CoM is not kept.
-COM_DISTRUST = frozenset({"com-not-finite", "com-outside-geometry"})
-#: Findings a simulator refuses: what the minimal repair is for when nothing can be computed.
-INVALID_CODES = frozenset({"mass-not-finite", "mass-not-positive", "com-not-finite",
-                           "inertia-not-finite", "inertia-zero", "inertia-not-symmetric",
-                           "inertia-not-positive-definite", "triangle-inequality"})
-#: Findings that hold the inertial against the geometry: meaningless when the geometry is
+COM_DISTRUST = frozenset({Rule.COM_NOT_FINITE, Rule.COM_OUTSIDE_GEOMETRY,
+                          Rule.COM_FAR_OUTSIDE_GEOMETRY})
+#: Findings a simulator refuses: what the minimal repair is for when nothing is derived.
+INVALID = frozenset({Rule.MASS_NOT_FINITE, Rule.MASS_NOT_POSITIVE, Rule.MASS_ZERO_MERGED,
+                     Rule.COM_NOT_FINITE, Rule.INERTIA_NOT_FINITE, Rule.INERTIA_ZERO,
+                     Rule.INERTIA_ZERO_MERGED, Rule.INERTIA_NOT_SYMMETRIC,
+                     Rule.INERTIA_NOT_POSITIVE_DEFINITE, Rule.TRIANGLE_INEQUALITY,
+                     Rule.MASS_ABSURD, Rule.INERTIA_ABSURD})
+#: Findings that hold the inertial against the geometry: no evidence when the geometry is
 #: not the body.
-GEOMETRY_CODES = frozenset({"implausible-density", "com-outside-geometry",
-                            "inertia-vs-geometry"})
-#: Findings that say the geometry could not be read (the link was not verified).
-UNREAD_CODES = frozenset({"geometry-unreadable", "mesh-unresolved"})
+GEOMETRIC = frozenset({Rule.IMPLAUSIBLE_DENSITY, Rule.COM_OUTSIDE_GEOMETRY,
+                       Rule.COM_FAR_OUTSIDE_GEOMETRY, Rule.INERTIA_VS_GEOMETRY})
 #: A kept CoM lies in the geometry's box grown by this fraction of its diagonal on every
 #: side: collision geometry is often a simplified, slightly smaller hull of the CAD part.
 COM_KEEP_MARGIN = 0.02
@@ -82,236 +79,327 @@ COM_KEEP_MARGIN = 0.02
 #: does, so with nothing to derive it from it is left as it is without failing the run.
 NEGLIGIBLE_SHARE = 1e-3
 
-ACTIONS = tuple(a.value for a in Action)
 
+@dataclass(frozen=True, eq=False)
+class LinkPlan:
+    """What ``fix`` does with one link, and why; with the values it writes.
 
-@dataclass(frozen=True)
-class Decision:
-    """What ``fix`` does with one link, and why.
-
-    action : :class:`Action`: recompute (from geometry or spec), keep (byte for byte,
-        plausible), repair (minimal lift of an invalid tensor: nothing trustworthy to
-        recompute from) or leave (as it is, e.g. a massless frame).
-    why : the reason in plain words, e.g. "inertia-zero, com-outside-geometry".
-    keep_mass, keep_com : for "recompute", whether the written mass and CoM are trusted.
-    bounds : the geometry's box in the link frame, when it was read.
-    findings : what ``check`` reports about the link as written (the decision's grounds).
-    unverified : what of the link's geometry could not be read.
-    slip : for "correct", the one edit of the written values that undoes a slip.
+    Attributes
+    ----------
+    link : str
+    action : Action
+    grounds : tuple of Rule
+        The findings the action answers.
+    because : Rule or None
+        Why the link is kept or left despite findings (or why it is left).
+    keep : frozenset of str
+        Which of "mass", "com" are written as they are (for "recompute").
+    assembly : Assembly or None
+        The values to write, for "recompute" (the CoM still to be placed at the kept one),
+        "repair" and "correct".
+    source : Candidate or None, choice : GeometryChoice or None
+        The geometry a recomputed inertial integrates, and why.
+    role : str
+        "collision", "visual", "geom", "spec", "none" or "as written".
+    unresolved : bool
+        Left although it should have changed (``fix`` exits 1).
+    slip : SlipProposal or None
+        For "correct": the edit undone.
+    notes : tuple of Finding
+        What planning found out carrying on (the minimal body given, elements dropped).
     """
 
     link: str
     action: Action
-    why: str
-    keep_mass: bool = False
-    keep_com: bool = False
-    bounds: Bounds | None = None
-    findings: tuple[Finding, ...] = ()
-    unverified: tuple[str, ...] = ()
-    #: "leave" of a link that needed recomputing (a placeholder): left, never silently
+    grounds: tuple[Rule, ...] = ()
+    because: Rule | None = None
+    keep: frozenset[str] = frozenset()
+    assembly: Assembly | None = None
+    source: Candidate | None = None
+    choice: GeometryChoice | None = None
+    role: str = "as written"
     unresolved: bool = False
-    #: "recompute" only from geometry whose implied density is plausible (the first
-    #: geometry judged is not the body; another may be), else left
-    plausible_only: bool = False
     slip: SlipProposal | None = None
-
-    def __post_init__(self) -> None:
-        if self.action not in ACTIONS:
-            raise ValueError(f"action must be one of {ACTIONS}")
-        object.__setattr__(self, "action", Action(self.action))
-
-    def describe(self, done: bool = True) -> str:
-        """"kept: plausible" after a fix, "would be kept: plausible" before one."""
-        if self.action == "leave":
-            return self.why  # already says what happens ("... left as it is")
-        past = {"recompute": "recomputed", "keep": "kept", "repair": "repaired",
-                "correct": "corrected"}[self.action]
-        return f"{past if done else 'would be ' + past}: {self.why}"
+    notes: tuple[Finding, ...] = ()
 
 
-def every_link(options: FixOptions) -> FixOptions:
-    """``options`` asking for every link with geometry (what ``compare`` shows as B)."""
-    return replace(options, recompute="all", links=())
+def plan_robot(judgement: Judgement) -> dict[str, LinkPlan]:
+    """The plan of every link, by name (module doc)."""
+    evidence = judgement.evidence
+    return {name: plan_link(evidence.links[name], j, evidence)
+            for name, j in judgement.links.items()}
 
 
-def plan_robot(robot: Robot, options: FixOptions, meshes: MeshLibrary,
-               urdf_dir: Path | None = None) -> dict[str, Decision]:
-    """The decision for every link of ``robot``, by name."""
-    if urdf_dir is None:
-        urdf_dir = robot.path.parent if robot.path is not None else Path(".")
-    kin = Kinematics(robot)
-    cache = BoundsCache(meshes)
-    return {link.name: decide_link(link, robot, kin, options, meshes, cache, urdf_dir)
-            for link in robot.links}
+def plan_link(ev: LinkEvidence, j: LinkJudgement, robot: RobotEvidence) -> LinkPlan:
+    """One link's plan: the decision (:func:`_decide`), then the read-only rule."""
+    plan = _decide(ev, j, robot)
+    if ev.link.read_only is not None and plan.action in (Action.RECOMPUTE, Action.REPAIR,
+                                                         Action.CORRECT):
+        return LinkPlan(ev.name, Action.LEAVE, plan.grounds, Rule.READ_ONLY_BODY,
+                        unresolved=True, notes=(Finding(
+                            Rule.READ_ONLY_BODY, ev.name, ev.link.read_only, ev.link.line),))
+    return plan
 
 
-def _named_in_spec(options: FixOptions, name: str) -> bool:
-    spec = options.spec
-    return spec is not None and spec.link(name) is not None
-
-
-def decide_link(link: Link, robot: Robot, kin: Kinematics, options: FixOptions,
-                meshes: MeshLibrary, cache: BoundsCache, urdf_dir: Path) -> Decision:
-    """The link's findings (as ``check`` reports them) and the decision taken from them."""
-    findings = value_findings(link, kin, robot) + reference_findings(link, options, urdf_dir)
-    bounds = density = None
-    outgrows = False
-    if link.inertial is not None and (link.collisions or link.visuals):
-        judged = geometry_judgement(link, meshes, cache, options, urdf_dir)
-        findings += judged.findings
-        bounds, density, outgrows = judged.bounds, judged.density, judged.outgrows
-    # each unresolved mesh once: "geometry-unreadable" repeats an unresolved one's cause
-    mine = [f for f in findings if f.link == link.name]
-    unverified = tuple(f.message for f in mine if f.code == "mesh-unresolved") or tuple(
-        f.message for f in mine if f.code == "geometry-unreadable")
-    decision = _decide(link, kin, findings, bounds, density, options, outgrows,
-                       _negligible(link, robot))
-    decision, findings = _slip(link, decision, findings, options, meshes, cache, urdf_dir)
-    return replace(decision, findings=tuple(findings), unverified=unverified)
-
-
-def _slip(link: Link, decision: Decision, findings: list[Finding], options: FixOptions,
-          meshes: MeshLibrary, cache: BoundsCache, urdf_dir: Path,
-          ) -> tuple[Decision, list[Finding]]:
-    """A clear one-edit slip (:mod:`urdfinertia.judge.slips`) of a flagged link under the
-    default policy: the proposal joins the findings and is applied instead of deriving the
-    inertial from the geometry, which keeps every value the slip did not touch."""
-    if options.recompute != "needed" or _named_in_spec(options, link.name) \
-            or decision.action == Action.KEEP and decision.why == "plausible":
-        return decision, findings
-    codes = {f.code for f in findings if f.link == link.name}
-    found = find_slip(link, codes, meshes, cache, options, urdf_dir)
-    if found is None:
-        return decision, findings
-    line = link.inertial.line if link.inertial is not None else None
-    note = Finding(link.name, "warning", "slip-proposed", found.sentence(), line)
-    triggers = ", ".join(sorted(codes & SLIP_TRIGGERS))
-    return (Decision(link.name, Action.CORRECT, f"{found.edit} (slip: {triggers})",
-                     bounds=decision.bounds, slip=found), [*findings, note])
-
-
-def _decide(link: Link, kin: Kinematics, findings: list[Finding], bounds: Bounds | None,
-            density: float | None, options: FixOptions, outgrows: bool,
-            negligible: bool) -> Decision:
-    name = link.name
-    if _named_in_spec(options, name):
-        trust = not ({f.code for f in findings} & MASS_DISTRUST)
-        return Decision(name, Action.RECOMPUTE, "named in the spec", keep_mass=trust)
-    if options.recompute == "all":
-        return Decision(name, Action.RECOMPUTE, "every link asked for", keep_mass=True)
+def _decide(ev: LinkEvidence, j: LinkJudgement, robot: RobotEvidence) -> LinkPlan:
+    options = ev.options
+    name, link = ev.name, ev.link
+    rules = j.rules
+    spec = options.spec.link(name) if options.spec is not None else None
+    if spec is not None:
+        return _from_spec(ev, spec, not rules & MASS_DISTRUST)
+    if options.keep_auto and link.auto_inertial:
+        return LinkPlan(name, Action.LEAVE, because=Rule.AUTO_INERTIAL_KEPT)
+    if options.recompute == "all" or (options.recompute == "links" and name in options.links):
+        asked = _recompute(ev, j, (), keep_mass=True, keep_com=False, because=Rule.ASKED)
+        if asked.action == Action.RECOMPUTE or not rules & INVALID:
+            return asked
+        return _repair(ev, j, tuple(r for r in RECOMPUTE if r in rules))
     if options.recompute == "links":
-        if name in options.links:
-            return Decision(name, Action.RECOMPUTE, "named", keep_mass=True)
-        return Decision(name, Action.KEEP, "not named")
+        if rules & INVALID:
+            return _repair(ev, j, tuple(r for r in RECOMPUTE if r in rules))
+        return LinkPlan(name, Action.KEEP, because=Rule.NOT_ASKED)
     massless = link.inertial is None or link.inertial.mass == 0
-    if massless and not kin.moves(name):
-        if name in kin.parent_joint:
-            return Decision(name, Action.LEAVE, "massless, on a fixed joint: left as it is")
-        what = "without <inertial>" if link.inertial is None else "with mass 0"
-        return Decision(name, Action.LEAVE, f"root link {what}: left as it is (a floating "
-                        "base is recomputed only when named)")
-    codes = {f.code for f in findings if f.link == name}
-    if codes - UNREAD_CODES == {"inertia-zero"} and not kin.moves(name) \
-            and name in kin.parent_joint and not (link.collisions or link.visuals):
+    if massless and not ev.moves and not (link.inertial is not None and rules & INVALID
+                                          - {Rule.MASS_NOT_POSITIVE, Rule.MASS_ZERO_MERGED}):
+        if not ev.is_root:
+            why = "massless, on a fixed joint: left as it is"
+        else:
+            what = "without <inertial>" if link.inertial is None else "with mass 0"
+            why = (f"root link {what}: left as it is (a floating base is recomputed only "
+                   "when named)")
+        return LinkPlan(name, Action.LEAVE, because=Rule.MASSLESS_FRAME,
+                        notes=(Finding(Rule.MASSLESS_FRAME, name, why, link.line),))
+    if link.inertial is None and link.implicit is not None:
+        if link.implicit.mass is not None:  # a USD mass without a tensor: derive it
+            return _recompute(ev, j, (Rule.USD_MASS_WITHOUT_TENSOR,), keep_mass=True,
+                              keep_com=False, mass=MassSource("kept", link.implicit.mass))
+        if Rule.INERTIAL_FROM_GEOMS in rules:
+            return LinkPlan(name, Action.LEAVE, because=Rule.INERTIAL_FROM_GEOMS)
+    triggers = {r for r in rules if r in RECOMPUTE}
+    if triggers - {Rule.MESH_UNRESOLVED, Rule.GEOMETRY_UNREADABLE} == {Rule.INERTIA_ZERO_MERGED,
+                                                                       } and not ev.moves \
+            and not ev.is_root and not ev.has_geometry:
         # a frame with a token mass (so101's gripper_frame_link: 1e-9 kg, zero tensor):
         # simulators merge it into its parent; a made-up tensor of that size is one MuJoCo
         # refuses (eigenvalues below its 1e-15 floor), where it took the zero tensor
-        return Decision(name, Action.LEAVE, "frame on a fixed joint with a zero tensor and "
-                        "nothing to compute from: left as it is")
-    return decide_from_findings(link, findings, bounds, density, options, outgrows,
-                                negligible=negligible)
+        return LinkPlan(name, Action.LEAVE, because=Rule.MASSLESS_FRAME, notes=(Finding(
+            Rule.MASSLESS_FRAME, name, "frame on a fixed joint with a zero tensor and "
+            "nothing to compute from: left as it is", link.line),))
+    if j.closed_form is not None and j.closed_form != 1.0 and not rules & INVALID:
+        return LinkPlan(name, Action.KEEP, because=Rule.CLOSED_FORM_SCALED)
+    if j.vouched_by is not None:
+        return LinkPlan(name, Action.KEEP, because=Rule.TWIN_VOUCHES)
+    if j.slip is not None:
+        return _correct(ev, j)
+    if j.copy_of is not None and j.copy_density is not None and j.copy_density > 0:
+        plan = _recompute(ev, j, (Rule.INERTIAL_COPIED,), keep_mass=False, keep_com=False,
+                          mass=MassSource("density", j.copy_density))
+        if plan.action == Action.RECOMPUTE:
+            return plan
+    return _default(ev, j, robot)
 
 
-def _negligible(link: Link, robot: Robot) -> bool:
-    """``link``'s written mass is below :data:`NEGLIGIBLE_SHARE` of the robot's."""
-    if link.inertial is None:
-        return False
-    masses = [other.inertial.mass for other in robot.links if other.inertial is not None]
-    total = sum(m for m in masses if np.isfinite(m) and m > 0)
-    mass = link.inertial.mass
-    return bool(np.isfinite(mass) and 0 < mass < NEGLIGIBLE_SHARE * total)
-
-
-def decide_from_findings(link: Link, findings: list[Finding], bounds: Bounds | None,
-                         density: float | None, options: FixOptions,
-                         outgrows: bool = False, negligible: bool = False) -> Decision:
-    """The default policy for a link that is not a massless frame, from its findings.
-
-    ``density`` is the written mass over the geometry's volume (kg/m^3), when known;
-    ``outgrows``: the written body cannot lie in the geometry (CoM outside its box, tensor
-    beyond all the mass on the box's far corners).
-
-    A derived value must be more trustworthy than the one it replaces, so nothing is
-    derived from geometry that is not the body: geometry that could not be read, or whose
-    implied density no material has (a 1 cm marker box holding a motor's mass, a large
-    envelope around a light link), or in which the written body cannot lie. There a valid
-    inertial is kept as written and an invalid one gets the minimal repair, each with the
-    reason.
-    """
-    name = link.name
-    codes = {f.code for f in findings if f.link == name}
-    slip = unit_slip(density) if density is not None and "implausible-density" in codes else None
-    note = ""
-    if slip is not None and slip[1] == "geometry":
-        codes -= GEOMETRY_SLIP_CODES
-        note = f" (implausible density explained by the geometry: {slip[2]})"
-    not_body = None
-    if "implausible-density" in codes and density is not None:
-        not_body = not_the_body(density)
-    elif outgrows and codes & MASS_DISTRUST == set():
-        not_body = ("geometry is a marker, not the body (the written CoM lies more than a "
-                    "box diagonal outside it, the tensor beyond all the mass on its corners)")
+def _default(ev: LinkEvidence, j: LinkJudgement, robot: RobotEvidence) -> LinkPlan:
+    """The default policy for a link that is not a frame, from its findings."""
+    name, rules = ev.name, set(j.rules)
+    g = j.geometry
+    if g.geometry_slip is not None:
+        rules -= GEOMETRY_SLIP
+    not_body = g.not_body
     if not_body is not None:
-        codes -= GEOMETRY_CODES
-    unread = link.inertial is not None and bool(codes & UNREAD_CODES)
-    triggers = [c for c in RECOMPUTE_CODES if c in codes]
+        rules -= GEOMETRIC
+    unread = ev.link.inertial is not None and bool(j.unverified)
+    triggers = tuple(r for r in RECOMPUTE if r in rules)
     if not triggers:
         if not_body is not None:
-            return Decision(name, Action.KEEP, not_body)
+            return LinkPlan(name, Action.KEEP, because=Rule.GEOMETRY_NOT_BODY)
+        if g.geometry_slip is not None:
+            return LinkPlan(name, Action.KEEP, because=Rule.GEOMETRY_UNIT_SLIP)
         if unread:
-            return Decision(name, Action.KEEP, "valid as written; not verified against its "
-                            "geometry (unreadable)")
-        return Decision(name, Action.KEEP, "plausible" + note)
-    why = ", ".join(triggers) + note
-    _, refs = select_geometry(link, options.geometry)
-    invalid = bool(codes & (INVALID_CODES | {"missing-inertial"}))
-    if not_body is not None and not unread and triggers and options.geometry == "auto" \
-            and not negligible and len([r for r in (link.collisions, link.visuals) if r]) > 1:
+            return LinkPlan(name, Action.KEEP, because=j.unverified[0].rule)
+        return LinkPlan(name, Action.KEEP)
+    invalid = bool(rules & INVALID) or bool(rules & {Rule.MISSING_INERTIAL,
+                                                      Rule.MISSING_INERTIAL_MERGED})
+    negligible = _negligible(ev, robot)
+    keep_mass = not rules & MASS_DISTRUST
+    keep_com = keep_mass and not rules & COM_DISTRUST and ev.raw is not None \
+        and inside(ev.raw, g.bounds, COM_KEEP_MARGIN)
+    if not_body is not None and not unread and ev.options.geometry == "auto" \
+            and not negligible and len(ev.roles) > 1:
         # the geometry judged is not the body; the link's other geometry may be
-        return Decision(name, Action.RECOMPUTE, f"{why}; {not_body}", keep_mass=True,
-                        keep_com=_inside(link, bounds), bounds=bounds, plausible_only=True)
-    if not_body is not None or unread or not refs:
-        cause = (not_body if not_body is not None else
-                 "geometry could not be read" if refs else "no geometry to recompute from")
+        plan = _recompute(ev, j, triggers, keep_mass=True, keep_com=keep_com,
+                          plausible_only=True, because=Rule.GEOMETRY_NOT_BODY)
+        if plan.action == Action.RECOMPUTE:
+            return plan
+    if not_body is not None or unread or not ev.roles:
+        because = (Rule.GEOMETRY_NOT_BODY if not_body is not None else
+                   j.unverified[0].rule if unread else Rule.NO_GEOMETRY)
         if invalid:
-            return Decision(name, Action.REPAIR, f"{why}; {cause}")
-        if negligible:  # a frame body: nothing a simulator does depends on its tensor
-            return Decision(name, Action.LEAVE, f"{why}; {cause}: left as it is (under "
-                            f"{100 * NEGLIGIBLE_SHARE:g} % of the robot's mass)")
-        return Decision(name, Action.LEAVE, f"{why}; {cause}: left as it is",
-                        unresolved=True)
-    keep_mass = not (codes & MASS_DISTRUST)
-    keep_com = keep_mass and not (codes & COM_DISTRUST) and _inside(link, bounds)
-    return Decision(name, Action.RECOMPUTE, why, keep_mass=keep_mass, keep_com=keep_com,
-                    bounds=bounds)
+            return _repair(ev, j, triggers, because)
+        if negligible:
+            return LinkPlan(name, Action.LEAVE, triggers, Rule.NEGLIGIBLE_BODY)
+        return LinkPlan(name, Action.LEAVE, triggers, because, unresolved=True)
+    plan = _recompute(ev, j, triggers, keep_mass=keep_mass, keep_com=keep_com)
+    if plan.action != Action.LEAVE or not invalid:
+        return plan
+    return _repair(ev, j, triggers, plan.because)
 
 
-def not_the_body(density: float) -> str:
-    """Why geometry with this implied density (kg/m^3) cannot be the link's body."""
-    lo, hi = PLAUSIBLE_DENSITY
-    if density > hi:
-        return (f"geometry is a marker, not the body (implied density {density:.3g} kg/m^3, "
-                f"denser than any material)")
-    return (f"geometry is an envelope, not the body (implied density {density:.3g} kg/m^3, "
-            f"lighter than any solid part, below {lo:g})")
-
-
-def _inside(link: Link, bounds: Bounds | None) -> bool:
-    """The written CoM lies in the geometry's box (grown by :data:`COM_KEEP_MARGIN`)."""
-    if link.inertial is None or bounds is None:
+def _negligible(ev: LinkEvidence, robot: RobotEvidence) -> bool:
+    """The link's written mass is below :data:`NEGLIGIBLE_SHARE` of the robot's."""
+    raw = ev.raw
+    if raw is None or not raw.mass_ok:
         return False
-    com = RawInertial.from_inertial(link.inertial).com
-    lo, hi = bounds
-    margin = COM_KEEP_MARGIN * float(np.linalg.norm(hi - lo))
-    return bool(np.all(np.isfinite(com)) and np.all(com >= lo - margin)
-                and np.all(com <= hi + margin))
+    return bool(0 < raw.mass < NEGLIGIBLE_SHARE * robot.total_mass)
+
+
+def _recompute(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...], *,
+               keep_mass: bool, keep_com: bool, plausible_only: bool = False,
+               mass: MassSource | None = None, because: Rule | None = None) -> LinkPlan:
+    """Derive the link from the geometry that best represents the body (fallback: left,
+    with why, when no geometry can be integrated)."""
+    options = ev.options
+    candidates = ev.all_candidates() if options.geometry == "auto" and not \
+        ev.link.auto_inertial else [c for c in (ev.primary,) if c is not None]
+    source = mass or link_mass_source(ev.link, options, trust_mass=keep_mass)
+    kept_mass = source.total if source.kind == "kept" else None
+    raw = ev.raw
+    com = raw.com if keep_com and raw is not None and raw.com_ok and kept_mass else None
+    if not candidates:
+        dropped = _dropped(ev)
+        because = dropped[0].rule if dropped else Rule.NO_GEOMETRY
+        return LinkPlan(ev.name, Action.LEAVE, grounds, because,
+                        unresolved=bool(dropped) or bool(grounds), notes=tuple(dropped))
+    best, chosen = choose(candidates, kept_mass, com)
+    lo, hi = PLAUSIBLE_DENSITY
+    if plausible_only and chosen.density is not None and not lo <= chosen.density <= hi:
+        return LinkPlan(ev.name, Action.LEAVE, grounds, Rule.GEOMETRY_NOT_BODY,
+                        unresolved=True)
+    try:
+        with np.errstate(all="raise"):
+            assembly = assemble(best.parts, source)
+    except (UrdfInertiaError, ValueError, FloatingPointError) as exc:
+        cause = exc.cause if isinstance(exc, UrdfInertiaError) else str(exc)
+        note = Finding(Rule.DERIVED_FROM_IMPLAUSIBLE, ev.name, f"mass properties cannot be "
+                       f"computed from the {best.role} geometry: {cause}", ev.link.line)
+        return LinkPlan(ev.name, Action.LEAVE, grounds, Rule.DERIVED_FROM_IMPLAUSIBLE,
+                        unresolved=True, notes=(note,))
+    keep = frozenset({"mass"} if assembly.mass_source.kind == "kept" else set())
+    if com is not None and "mass" in keep:
+        keep |= {"com"}
+    return LinkPlan(ev.name, Action.RECOMPUTE, grounds, because, keep, assembly, best,
+                    chosen, best.role, notes=tuple(best.dropped))
+
+
+def _dropped(ev: LinkEvidence) -> list[Finding]:
+    """Every element of the link that could not be integrated, with why."""
+    from urdfinertia.body.geometry_choice import usable_parts
+    from urdfinertia.body.options import weighable
+
+    found: list[Finding] = []
+    for _, refs in ev.roles:
+        usable_parts(ev.link, weighable(refs), ev.robot.meshes, ev.robot.urdf_dir, found)
+    return list(dict.fromkeys(found))
+
+
+def _from_spec(ev: LinkEvidence, spec, trust_mass: bool) -> LinkPlan:  # noqa: ANN001
+    parts, _ = spec.parts(ev.link, ev.robot.meshes, ev.robot.urdf_dir)
+    source = spec.mass_source(ev.link, ev.options, trust_mass=trust_mass)
+    try:
+        assembly = assemble(parts, source)
+    except UrdfInertiaError as exc:  # the spec, not the description, made these parts
+        raise exc.with_context(file=spec.path, link=ev.name) from None
+    keep = frozenset({"mass"} if assembly.mass_source.kind == "kept" else set())
+    return LinkPlan(ev.name, Action.RECOMPUTE, (), Rule.SPEC_NAMED, keep, assembly,
+                    role="spec")
+
+
+def _correct(ev: LinkEvidence, j: LinkJudgement) -> LinkPlan:
+    slip = j.slip
+    assert slip is not None
+    grounds = tuple(r for r in RECOMPUTE if r in j.rules and r in SLIP_TRIGGERS)
+    if j.convention is not None:
+        grounds = (Rule.CONVENTION_INFERRED, *grounds)
+    assembly = Assembly(slip.after, (), MassSource("kept", slip.after.mass))
+    return LinkPlan(ev.name, Action.CORRECT, grounds, None,
+                    frozenset(v for v in ("mass", "com", "tensor") if v not in slip.changed),
+                    assembly, role="as written", slip=slip)
+
+
+#: Below this radius of gyration (m) a written tensor holds no information to keep.
+MIN_GYRATION = 1e-4
+#: The body given to a moving link with no mass and nothing to compute from, kg and m:
+#: light enough not to change a robot's mass, heavy enough for MuJoCo (1e-15 floor).
+MIN_BODY_MASS = 1e-5
+MIN_BODY_RADIUS = 0.01
+
+
+def _repair(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...],
+            because: Rule | None = None) -> LinkPlan:
+    """The minimal repair of a link with nothing to derive from.
+
+    An invalid tensor is lifted (``--repair-only``'s repair). Two cases the lift cannot
+    make usable get the smallest body a simulator accepts instead, reported as such: a
+    tensor with no information left (radius of gyration below :data:`MIN_GYRATION`, e.g.
+    iCub's ankles at 1e-20 kg m^2 for 0.27 kg) becomes a solid sphere of the written mass
+    at ``options.density``; a moving link with no usable mass at all gets
+    :data:`MIN_BODY_MASS` in a :data:`MIN_BODY_RADIUS` sphere.
+    """
+    from urdfinertia.inertia.massprops import MassProperties
+    from urdfinertia.inertia.tensor_repair import repair_tensor
+    from urdfinertia.inertia.validity import diagnose_tensor
+
+    raw = ev.raw
+    name = ev.name
+    options = ev.options
+    if raw is None or not raw.mass_ok or raw.mass > 1e6 or (
+            raw.mass == 0 and not raw.inertia.any()):
+        com = raw.com if raw is not None and raw.com_ok and _finite_com(raw.com) \
+            else np.zeros(3)
+        body = MassProperties(MIN_BODY_MASS, com, _sphere(MIN_BODY_MASS, MIN_BODY_RADIUS))
+        note = Finding(Rule.MINIMAL_BODY, name, f"a moving body needs mass: given "
+                       f"{MIN_BODY_MASS:g} kg, a {100 * MIN_BODY_RADIUS:g} cm sphere",
+                       ev.link.line, "inertial")
+        keep = frozenset({"com"}) if raw is not None and raw.com_ok else frozenset()
+        return LinkPlan(name, Action.REPAIR, grounds, because, keep, Assembly(
+            body, (), MassSource("kept", MIN_BODY_MASS)), role="none", notes=(note,))
+    com = raw.com if raw.com_ok and _finite_com(raw.com) else np.zeros(3)
+    keep = frozenset({"mass", "com"}) if raw.com_ok else frozenset({"mass"})
+    with np.errstate(all="ignore"):
+        finite = bool(np.all(np.isfinite(raw.inertia))) and float(
+            np.abs(raw.inertia).max(initial=0.0)) < 1e6
+    if finite:
+        try:
+            lifted = repair_tensor(raw.inertia)
+            moments = np.linalg.eigvalsh(lifted.tensor)
+            if diagnose_tensor(lifted.tensor).valid and \
+                    math.sqrt(max(moments[-1], 0.0) / raw.mass) >= MIN_GYRATION:
+                body = MassProperties(raw.mass, com, lifted.tensor)
+                notes = tuple(Finding(Rule.TENSOR_LIFTED, name, change, ev.link.line,
+                                      "inertial") for change in lifted.changes)
+                return LinkPlan(name, Action.REPAIR, grounds, because, keep, Assembly(
+                    body, (), MassSource("kept", raw.mass)), role="as written",
+                    notes=notes)
+        except (ValueError, np.linalg.LinAlgError):
+            pass
+    radius = (3 * raw.mass / (4 * math.pi * options.density)) ** (1 / 3)
+    body = MassProperties(raw.mass, com, _sphere(raw.mass, radius))
+    note = Finding(Rule.TENSOR_HOLDS_NOTHING, name, f"the tensor holds nothing to keep: a "
+                   f"solid sphere of the mass at {options.density:g} kg/m^3", ev.link.line,
+                   "inertial")
+    return LinkPlan(name, Action.REPAIR, grounds, because, keep, Assembly(
+        body, (), MassSource("kept", raw.mass)), role="none", notes=(note,))
+
+
+def _finite_com(com: np.ndarray) -> bool:
+    return bool(np.all(np.abs(com) < 1e6))
+
+
+def _sphere(mass: float, radius: float) -> np.ndarray:
+    return np.eye(3) * (0.4 * mass * radius**2)
+
+
+def every_link(options):  # noqa: ANN001, ANN201
+    """``options`` asking for every link with geometry (what ``compare`` shows as B)."""
+    return replace(options, recompute="all", links=())

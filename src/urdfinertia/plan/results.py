@@ -1,11 +1,13 @@
 """One answer per link: the :class:`LinkResult` verdict, and the :class:`FixResult` of a file.
 
-A :class:`LinkResult` is computed once, by :func:`urdfinertia.plan.fix.link_verdicts`, and
+A :class:`LinkResult` is made once, by :func:`urdfinertia.plan.fix.link_verdicts`, and
 rendered by every command (``fix``, ``check``, ``compare``, ``explain``, ``report``), by
 their JSON, SARIF and annotations, and by the Python API. It carries the link's findings
-(with rule ids), the decision (:class:`Action`) and its reason in plain words, what was
-kept and what derived, the values before and after, the error bar of a derived tensor,
-and what could not be verified.
+(each with its rule: the one channel of everything said about the link), the plan's
+:class:`Action` with its grounds (the rules it answers) and, where ``fix`` keeps or leaves
+a link despite findings, the rule that says why; what was kept and what derived, the
+values before and after, the error bar of a derived tensor, the geometry choice and the
+slip undone. Every text a surface shows is rendered from these by :func:`describe`.
 """
 
 from __future__ import annotations
@@ -15,13 +17,15 @@ from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from urdfinertia.findings import Finding
+from urdfinertia.rules import Rule, Scope, Severity
+
 if TYPE_CHECKING:
     from urdfinertia.body.assemble import Assembly
     from urdfinertia.body.errorbar import ErrorBar
     from urdfinertia.body.geometry_choice import GeometryChoice
-    from urdfinertia.descriptions.model import Inertial, Problem, Robot
+    from urdfinertia.descriptions.model import Inertial, Robot
     from urdfinertia.errors import UrdfError
-    from urdfinertia.findings import Finding
     from urdfinertia.inertia.massprops import MassProperties
     from urdfinertia.judge.slips import SlipProposal
     from urdfinertia.plan.save import SaveReport
@@ -33,22 +37,26 @@ class Status(StrEnum):
 
     #: derived from the geometry (or a spec), the trusted values kept
     RECOMPUTED = "recomputed"
-    #: the minimal repair: mass and CoM kept, the tensor lifted (or a smallest body given)
+    #: the minimal repair, or a slip undone: the values the author meant
     REPAIRED = "repaired"
     #: plausible: kept byte for byte
     KEPT = "kept"
     #: nothing to do or nothing to compute from: left byte for byte
     UNTOUCHED = "untouched"
-    #: it should have been computed but could not be: left as written (``reason`` says why)
+    #: it should have been changed but could not be: left as written (``reason`` says why)
     LEFT = "left"
 
 
 class Action(StrEnum):
-    """What the policy decided for a link (:mod:`urdfinertia.plan.policy`)."""
+    """What the plan decided for a link (:mod:`urdfinertia.plan.policy`)."""
 
+    #: derive the values it distrusts from the geometry (or a spec), keep the rest
     RECOMPUTE = "recompute"
+    #: keep the written values byte for byte
     KEEP = "keep"
+    #: the minimal repair of an invalid tensor (nothing to derive from)
     REPAIR = "repair"
+    #: leave the link as it is (a frame; or nothing usable: then it is "left")
     LEAVE = "leave"
     #: undo a slip: one edit of the written values (:mod:`urdfinertia.judge.slips`)
     CORRECT = "correct"
@@ -56,60 +64,96 @@ class Action(StrEnum):
 
 #: Statuses whose inertial the output carries changed.
 CHANGED = frozenset({Status.RECOMPUTED, Status.REPAIRED})
-
-
-#: Problem kinds that ``--strict`` refuses ("lenient" readings are warnings even then).
-STRICT_KINDS = ("dropped", "ignored")
+#: The findings that say some of a link's geometry could not be read (not verified).
+UNREAD = frozenset({Rule.MESH_UNRESOLVED, Rule.GEOMETRY_UNREADABLE, Rule.MESH_TOO_LARGE,
+                    Rule.MESH_REFUSED, Rule.MESH_ABSURD})
+#: How a "because" rule reads in the decision of a link kept ("kept: {phrase}"), where
+#: its finding's own message is not the phrase.
+_BECAUSE_KEPT = {
+    Rule.GEOMETRY_UNREADABLE: "valid as written; not verified against its geometry "
+                              "(unreadable)",
+    Rule.MESH_UNRESOLVED: "valid as written; not verified against its geometry (a mesh "
+                          "does not resolve)",
+    Rule.MESH_TOO_LARGE: "valid as written; not verified against its geometry (a mesh "
+                         "over the limits)",
+}
+#: How a "because" rule reads in any other decision (or a kept one it has no phrase for).
+_BECAUSE = {
+    Rule.GEOMETRY_UNREADABLE: "geometry could not be read",
+    Rule.MESH_UNRESOLVED: "geometry could not be read",
+    Rule.MESH_TOO_LARGE: "geometry could not be read",
+    Rule.MESH_REFUSED: "geometry could not be read",
+    Rule.MESH_ABSURD: "geometry could not be read",
+    Rule.NOT_ASKED: "not named",
+    Rule.AUTO_INERTIAL_KEPT: "auto inertia kept (--keep-auto): the simulator computes it",
+    Rule.INERTIAL_FROM_GEOMS: "computed by the simulator from its geometry: left as it is",
+    Rule.NO_GEOMETRY: "no geometry to recompute from",
+    Rule.NEGLIGIBLE_BODY: "under 0.1 % of the robot's mass: left as it is",
+    Rule.SPEC_NAMED: "named in the spec",
+    Rule.ASKED: "every link asked for",
+}
+_PAST = {Action.RECOMPUTE: "recomputed", Action.KEEP: "kept", Action.REPAIR: "repaired",
+         Action.CORRECT: "corrected", Action.LEAVE: "left"}
 
 
 @dataclass(frozen=True, eq=False)
 class LinkResult:
     """One link's verdict: what ``fix`` does with it and why, rendered by every command.
 
-    status : :class:`Status` (what the output carries); ``reason`` says why a link was
-        left as it was.
-    action, why, decision : the policy's :class:`Action`, its reason in plain words, and
-        both in one phrase ("kept: plausible", "recomputed: inertia-zero").
-    kept, derived : which of "mass", "com", "tensor" were kept as written and which derived.
-    previous, before, after : the ``<inertial>`` as written, its values, and what the
-        output carries (:class:`~urdfinertia.inertia.massprops.MassProperties`).
-    findings : what ``check`` reports about the link as written.
-    unverified : what could not be read (unresolved or unreadable meshes).
-    problems : the link's elements dropped and values ignored (read and compute time).
+    Attributes
+    ----------
+    name : str
+    status : Status
+        What the output carries.
+    action : Action
+        What the plan decided.
+    findings : tuple of Finding
+        Everything said about the link: the reader's, the judgement's and what carrying
+        the plan out found (a mesh repaired, a derived density no material has).
+    grounds : tuple of Rule
+        The findings the action answers ("placeholder-inertia" for a recompute).
+    because : Rule or None
+        Why the link is kept or left despite its findings, or why it is left
+        ("geometry-not-body", "no-geometry"); None when nothing needs saying.
+    geometry : str
+        What the output's values come from: "collision", "visual", "geom", "spec",
+        "none" or "as written".
+    assembly : Assembly or None
+        The new values and their parts (None: the written values stay).
+    previous : Inertial or None
+        The ``<inertial>`` as written.
+    kept, derived : tuple of str
+        Which of "mass", "com", "tensor" were kept as written and which derived.
+    error_bar : ErrorBar or None
+        The expected error of a tensor derived from homogeneous geometry.
+    choice : GeometryChoice or None
+        Which geometry a derived inertial integrates, and why.
+    slip : SlipProposal or None
+        The slip undone (action "correct").
+    stated_mass : float or None
+        A mass the description states without an inertial (a USD MassAPI's mass with no
+        inertia): it counts in the robot's written total.
     """
 
     name: str
     status: Status
-    geometry: str  # "collision" | "visual" | "spec" | "none" | "as written"
-    assembly: Assembly | None
-    previous: Inertial | None
-    warnings: tuple[str, ...] = ()
-    problems: tuple[Problem, ...] = ()
-    reason: str | None = None
-    #: the policy's decision in words ("kept: plausible", "recomputed: inertia-zero", ...)
-    decision: str = ""
-    #: which of "mass", "com", "tensor" were kept as written and which derived
+    action: Action
+    findings: tuple[Finding, ...] = ()
+    grounds: tuple[Rule, ...] = ()
+    because: Rule | None = None
+    geometry: str = "as written"
+    assembly: Assembly | None = None
+    previous: Inertial | None = None
     kept: tuple[str, ...] = ()
     derived: tuple[str, ...] = ()
-    #: expected error of a tensor derived from homogeneous geometry (None otherwise)
     error_bar: ErrorBar | None = None
-    #: the policy's action (None: computed outside the policy, e.g. ``explain``)
-    action: Action | None = None
-    #: why, in plain words ("plausible", "inertia-zero, com-outside-geometry", ...)
-    why: str = ""
-    #: what ``check`` reports about the link as written, rule ids with them
-    findings: tuple[Finding, ...] = ()
-    #: what could not be verified, e.g. "mesh meshes/arm.stl: cannot resolve package 'x'"
-    unverified: tuple[str, ...] = ()
-    #: which geometry a derived inertial integrates, and why (None: none derived)
     choice: GeometryChoice | None = None
-    #: the slip undone (action "correct") or proposed (:mod:`urdfinertia.judge.slips`)
     slip: SlipProposal | None = None
+    stated_mass: float | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "status", Status(self.status))
-        if self.action is not None:
-            object.__setattr__(self, "action", Action(self.action))
+        object.__setattr__(self, "action", Action(self.action))
 
     @property
     def changed(self) -> bool:
@@ -121,9 +165,12 @@ class LinkResult:
         """The inertial as written (link frame, about its CoM); None if absent or invalid."""
         if self.previous is None:
             return None
+        import numpy as np
+
         from urdfinertia.descriptions.inertial import RawInertial
 
-        return RawInertial.from_inertial(self.previous).mass_properties()
+        with np.errstate(all="ignore"):
+            return RawInertial.from_inertial(self.previous).mass_properties()
 
     @property
     def after(self) -> MassProperties | None:
@@ -134,16 +181,73 @@ class LinkResult:
         return self.before
 
     @property
+    def why(self) -> str:
+        """The action's reason in plain words: its grounds ("placeholder-inertia"), then
+        what the "because" rule says ("geometry is a marker, not the body"); "plausible"
+        for a link kept with nothing to say."""
+        parts = [", ".join(self.grounds), self.because_text()]
+        text = "; ".join(p for p in parts if p)
+        return text or ("plausible" if self.action == Action.KEEP else "")
+
+    def because_text(self) -> str:
+        """The "because" rule in words: for a link kept or left as it is, its phrase
+        ("not named"); else (and when it has none) its finding's message, which says what
+        exactly (the mesh that is missing)."""
+        if self.because is None:
+            return ""
+        phrase = (_BECAUSE_KEPT.get(self.because) if self.status == Status.KEPT
+                  else None) or _BECAUSE.get(self.because)
+        if phrase is not None and (self.status != Status.LEFT
+                                   or self.because not in UNREAD):
+            return phrase
+        for f in reversed(self.findings):  # the plan's own note, made last, first
+            if f.rule == self.because:
+                return f"{f.element}: {f.message}" if f.element and \
+                    self.status == Status.LEFT else f.message
+        return phrase or self.because.summary
+
+    @property
+    def decision(self) -> str:
+        """The decision in one phrase, as ``fix`` says it ("kept: plausible")."""
+        return describe(self, done=True)
+
+    @property
     def planned(self) -> str:
-        """The decision as a plan, as ``check`` says it: "would be kept: plausible"."""
-        if self.decision.startswith(("recomputed", "kept", "repaired", "left", "corrected")):
-            return "would be " + self.decision
-        return self.decision
+        """The decision as a plan, as ``check`` says it ("would be kept: plausible")."""
+        return describe(self, done=False)
+
+    @property
+    def reason(self) -> str | None:
+        """Why a link was left as it was (status "left"), else None: what needed changing
+        and why it could not be ("placeholder-inertia; no geometry to recompute from")."""
+        if self.status != Status.LEFT:
+            return None
+        return self.why or "left as it was"
+
+    @property
+    def unverified(self) -> tuple[Finding, ...]:
+        """What of the link's geometry could not be read (it was not verified)."""
+        return tuple(f for f in self.findings if f.rule in UNREAD)
 
     @property
     def verified(self) -> bool:
         """Everything asked for could be read (no geometry unresolved or unreadable)."""
         return not self.unverified
+
+    @property
+    def dropped(self) -> tuple[Finding, ...]:
+        """The elements left out of the link's inertia (each with its cause)."""
+        return tuple(f for f in self.findings if f.rule.scope == Scope.ELEMENT
+                     and f.severity != Severity.INFO)
+
+    def keeps(self, finding: Finding) -> bool:
+        """``fix`` keeps the value ``finding`` is about, on purpose, and says why (``check
+        --strict`` does not fail on it): an info, or a finding on the values of a link
+        that ``fix`` keeps as written."""
+        if finding.severity == Severity.INFO:
+            return True
+        return (finding.link == self.name and self.status == Status.KEPT
+                and finding.rule.scope in (Scope.INERTIAL, Scope.LINK))
 
     @property
     def size(self) -> float:
@@ -156,12 +260,51 @@ class LinkResult:
         return float(np.sqrt(np.trace(t.inertia) / t.mass) + np.linalg.norm(t.com))
 
 
+def describe(r: LinkResult, done: bool = True) -> str:
+    """The decision of ``r`` in words: "recomputed: placeholder-inertia" after a fix,
+    "would be recomputed: ..." before one (``done=False``)."""
+    verb = _PAST[r.action]
+    if r.status == Status.LEFT:
+        verb = "left as it was"
+        return f"{verb if done else 'would be ' + verb}: {r.reason}"
+    if r.action == Action.LEAVE:
+        return r.why if "left as it is" in r.why else f"left as it is: {r.why}"
+    if r.action == Action.CORRECT and r.slip is not None:
+        text = f"{r.slip.edit} (slip: {', '.join(r.grounds)})" if r.grounds else r.slip.edit
+    else:
+        text = r.why
+    return f"{verb if done else 'would be ' + verb}: {text}"
+
+
+def strict_blocking(f: Finding) -> bool:
+    """An element of a link dropped, or a value of its inertial that could not be read:
+    ``fix --strict`` writes nothing (a joint's value is never needed for inertials)."""
+    if f.link is None or f.severity == Severity.INFO or f.rule in _READ_AS_WRITTEN:
+        return False
+    return f.rule.scope == Scope.ELEMENT
+
+
+#: Element findings that read the element anyway (``--strict`` does not refuse them).
+_READ_AS_WRITTEN = frozenset({Rule.VALUE_UNREADABLE, Rule.VECTOR_COMMAS})
+
+
 @dataclass(frozen=True, eq=False)
 class FixResult:
     """A file's verdicts and its patched document (``output``; the input is ``original``).
 
-    Saving the output where it belongs (relocated references, atomic write) is
-    :mod:`urdfinertia.plan.save`'s job.
+    Attributes
+    ----------
+    path : Path
+    robot : Robot
+    links : tuple of LinkResult
+        Every link's verdict, in document order.
+    original, output : bytes
+        The document as read and as ``fix`` writes it.
+    targets : tuple of TargetOutcome
+        The target masses met, innermost first.
+    findings : tuple of Finding
+        What is said of the robot as a whole (the reader's notes on the document, the
+        conventions inferred, the change of its total mass).
     """
 
     path: Path
@@ -169,11 +312,12 @@ class FixResult:
     links: tuple[LinkResult, ...]
     original: bytes
     output: bytes
-    #: the target masses met (:mod:`urdfinertia.plan.total_mass`), innermost first
     targets: tuple[TargetOutcome, ...] = ()
+    robot_findings: tuple[Finding, ...] = ()
 
     @property
     def changed(self) -> bool:
+        """The output differs from the input."""
         return self.output != self.original
 
     def link(self, name: str) -> LinkResult:
@@ -195,13 +339,19 @@ class FixResult:
 
     @property
     def findings(self) -> tuple[Finding, ...]:
-        """Every link's findings, in link order."""
-        return tuple(f for r in self.links for f in r.findings)
+        """Every finding: the robot's, then every link's, in link order."""
+        return self.robot_findings + tuple(f for r in self.links for f in r.findings)
 
     @property
     def unverified(self) -> tuple[LinkResult, ...]:
         """Links some of whose geometry could not be read: they were not verified."""
         return tuple(r for r in self.links if r.unverified)
+
+    @property
+    def left(self) -> tuple[LinkResult, ...]:
+        """Links that should have been changed and were left as they were."""
+        return tuple(r for r in self.links if r.status == Status.LEFT)
+
     def save(self, path: str | Path | None = None, *, in_place: bool = False,
              backup: bool = True, keep_mesh_paths: bool = False) -> SaveReport:
         """Write the fixed document, as ``urdf-inertia fix -o PATH`` (or ``--in-place``).
@@ -220,11 +370,6 @@ class FixResult:
         return save_result(self, path, in_place=in_place, backup=backup,
                            keep_mesh_paths=keep_mesh_paths)
 
-    @property
-    def left(self) -> tuple[LinkResult, ...]:
-        """Links that should have been computed and were left as they were."""
-        return tuple(r for r in self.links if r.status == Status.LEFT)
-
     def left_error(self, r: LinkResult) -> UrdfError:
         """A link left as it was, as an error naming file, line and link."""
         from urdfinertia.errors import UrdfError
@@ -239,20 +384,13 @@ class FixResult:
                          link=r.name)
 
     def strict_refusal(self) -> UrdfError | None:
-        """What ``--strict`` refuses: the first element dropped or value ignored, else
-        the first link left as it was; None when the result is whole."""
+        """What ``--strict`` refuses: the first element dropped or value of a link not
+        read, else the first link left as it was; None when the result is whole."""
         from urdfinertia.errors import UrdfError
 
-        for p in self.problems:
-            # a joint's value is never needed for inertials: not even --strict refuses it
-            if p.kind in STRICT_KINDS and p.link is not None:
-                cause = f"{p.element}: {p.cause}" if p.element else p.cause
-                return UrdfError(cause, file=self.path, line=p.line, link=p.link)
+        for f in self.findings:
+            if strict_blocking(f):
+                cause = f"{f.element}: {f.message}" if f.element else f.message
+                return UrdfError(cause, file=self.path, line=f.line, link=f.link)
         left = self.left
         return self.left_error(left[0]) if left else None
-
-    @property
-    def problems(self) -> tuple[Problem, ...]:
-        """Everything read past: the document's own notes, then each link's problems."""
-        own = tuple(p for p in self.robot.problems if p.link is None)
-        return own + tuple(p for r in self.links for p in r.problems)

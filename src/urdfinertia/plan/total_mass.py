@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.findings import Finding
 from urdfinertia.plan.results import LinkResult, Status
+from urdfinertia.rules import Rule
 
 if TYPE_CHECKING:
     from urdfinertia.body.options import FixOptions
@@ -112,7 +113,9 @@ def mass_targets(robot: Robot, options: FixOptions) -> tuple[MassTarget, ...]:
 
 
 def _written(r: LinkResult) -> float:
-    return _usable(r.previous.mass) if r.previous is not None else 0.0
+    if r.previous is not None:
+        return _usable(r.previous.mass)
+    return _usable(r.stated_mass) if r.stated_mass is not None else 0.0
 
 
 def _output(r: LinkResult) -> float:
@@ -187,7 +190,7 @@ def _scaled(r: LinkResult, k: float) -> LinkResult:
     from urdfinertia.body.assemble import Assembly
     from urdfinertia.body.mass import MassSource
 
-    note = f"mass scaled x{k:.6g} to meet a target mass"
+    note = Finding(Rule.MASS_TARGET_MET, r.name, f"mass scaled x{k:.6g} to meet a target mass")
     if r.changed and r.assembly is not None:
         a = r.assembly
         parts = tuple(dataclasses.replace(p, mass_properties=p.mass_properties.with_mass(
@@ -202,7 +205,7 @@ def _scaled(r: LinkResult, k: float) -> LinkResult:
         return dataclasses.replace(r, assembly=Assembly(total, parts, source),
                                    kept=tuple(v for v in r.kept if v not in derived),
                                    derived=tuple(v for v in _VALUES if v in derived),
-                                   decision=f"{r.decision}; {note}" if r.decision else note)
+                                   findings=r.findings + (note,))
     before = r.before
     assert before is not None  # only links with a usable written mass are scaled
     kept = tuple(v for v in r.kept if v not in ("mass", "tensor")) or ("com",)
@@ -210,8 +213,8 @@ def _scaled(r: LinkResult, k: float) -> LinkResult:
         r, status=Status.RECOMPUTED,
         assembly=Assembly(before.with_mass(before.mass * k), (),
                           MassSource("kept", before.mass * k)),
-        kept=kept, derived=("mass", "tensor"),
-        decision=f"{r.decision}; {note}" if r.decision else note)
+        kept=kept, derived=("mass", "tensor"), findings=r.findings + (note,),
+        grounds=r.grounds + (Rule.MASS_TARGET_MET,))
 
 
 # --- check: the written masses against the targets ------------------------------------
@@ -298,5 +301,61 @@ def target_findings(robot: Robot, results: Sequence[LinkResult], options: FixOpt
                 o = outcomes[i]
                 text += (f"; fix with the target scales {len(o.scaled)} link(s) "
                          f"x{o.factor:.6g}")
-        out.append(Finding(t.name, "warning", "total-mass-mismatch", text))
+        out.append(Finding(Rule.TOTAL_MASS_MISMATCH, t.name, text))
     return out
+
+
+# --- the robot's total mass before and after fix --------------------------------------
+
+#: A change of the robot's total mass beyond this fraction is warned about.
+MASS_CHANGE_WARN = 0.01
+
+
+@dataclass(frozen=True)
+class MassChange:
+    """The robot's total mass (sum of the usable link masses) before and after, kg."""
+
+    before: float
+    after: float
+
+    @property
+    def relative(self) -> float:
+        if self.before > 0:
+            return (self.after - self.before) / self.before
+        return 0.0 if self.after == 0 else math.inf
+
+    @property
+    def warn(self) -> bool:
+        return abs(self.relative) > MASS_CHANGE_WARN
+
+    def text(self) -> str:
+        """Before and after, without the warning."""
+        return f"total mass {self.before:.6g} kg -> {self.after:.6g} kg"
+
+    def __str__(self) -> str:
+        text = self.text()
+        if self.warn:
+            text += (f" ({100 * self.relative:+.1f} %: more than "
+                     f"{100 * MASS_CHANGE_WARN:g} %, check the links given mass)")
+        return text
+
+
+def mass_change(links: Sequence[LinkResult]) -> MassChange:
+    """The robot's total mass as written and as ``fix`` writes it (a mass a description
+    states without a tensor, a USD MassAPI's, counts as written)."""
+    before = after = 0.0
+    for r in links:
+        old = _written(r)
+        before += old
+        after += _output(r)
+    return MassChange(before, after)
+
+
+def mass_change_finding(links: Sequence[LinkResult]) -> Finding | None:
+    """UI705 when ``fix`` changes the robot's total mass by more than
+    :data:`MASS_CHANGE_WARN`."""
+    change = mass_change(links)
+    if not change.warn:
+        return None
+    return Finding(Rule.TOTAL_MASS_CHANGED, None, f"{change.text()} ({100 * change.relative:+.1f} "
+                   f"%: more than {100 * MASS_CHANGE_WARN:g} %, check the links given mass)")

@@ -94,7 +94,7 @@ def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
     (default :func:`~urdfinertia.cache.library.mesh_library`) may hold results computed
     by worker processes.
     """
-    robot, data = read_description(path, lenient=True)
+    robot, data = read_description(path)
     if meshes is None:
         meshes = mesh_library(options.package_dirs, options.max_faces)
     checked = check_description(robot, meshes=meshes, options=options)
@@ -346,7 +346,9 @@ def _notes_cell(row: LinkRow) -> str:
         notes.append(f"fix: {row.fix.decision}")
     if row.fix.assembly is not None:
         notes.append(f"mass: {row.fix.assembly.mass_source}")
-    notes += list(row.fix.warnings)
+    from urdfinertia.render.decisions import note_text, verdict_notes
+
+    notes += [note_text(f) for f in verdict_notes(row.fix)]
     notes += [f"{b.source} tensor breaks the triangle inequality: its box has a side "
               "clipped to 0" for b in row.boxes if b.clipped]
     return "<br>".join(html.escape(n) for n in notes)

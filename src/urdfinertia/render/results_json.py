@@ -6,11 +6,10 @@ from typing import Any
 
 import numpy as np
 
-from urdfinertia.descriptions.model import Problem
-from urdfinertia.findings import Finding
+from urdfinertia.findings import finding_dict
 from urdfinertia.inertia.massprops import MassProperties
-from urdfinertia.plan.apply import mass_change
 from urdfinertia.plan.results import FixResult, LinkResult
+from urdfinertia.plan.total_mass import mass_change
 from urdfinertia.render.decisions import decision_dict
 
 
@@ -28,13 +27,10 @@ def mass_properties_dict(mp: MassProperties) -> dict[str, Any]:
 
 
 def link_dict(r: LinkResult) -> dict[str, Any]:
-    out: dict[str, Any] = {"link": r.name, "status": str(r.status), "geometry": r.geometry,
-                           "warnings": list(r.warnings), **decision_dict(r),
-                           **before_after_dict(r)}
+    out: dict[str, Any] = {"link": r.name, "status": r.status.value, "geometry": r.geometry,
+                           **decision_dict(r), **before_after_dict(r)}
     if r.reason is not None:
         out["reason"] = r.reason
-    if r.problems:
-        out["problems"] = [problem_dict(p) for p in r.problems]
     if r.previous is not None:
         prev = r.previous
         out["previous"] = {"mass": prev.mass, "com": list(prev.origin.xyz),
@@ -52,12 +48,6 @@ def link_dict(r: LinkResult) -> dict[str, Any]:
     return out
 
 
-def finding_dict(f: Finding) -> dict[str, Any]:
-    """A finding with its rule id (the fields ``check --json`` gives)."""
-    return {"link": f.link, "severity": f.severity, "code": f.code, "rule": f.rule.id,
-            "message": f.message, "line": f.line}
-
-
 def before_after_dict(r: LinkResult) -> dict[str, Any]:
     """The values as written and what the output carries (None: absent or invalid)."""
     before, after = r.before, r.after
@@ -65,21 +55,16 @@ def before_after_dict(r: LinkResult) -> dict[str, Any]:
             "after": mass_properties_dict(after) if after is not None else None}
 
 
-def problem_dict(p: Problem) -> dict[str, Any]:
-    return {"kind": p.kind, "code": p.code, "line": p.line, "link": p.link,
-            "element": p.element, "cause": p.cause}
-
-
 def fix_result_dict(result: FixResult) -> dict[str, Any]:
-    change = mass_change(result)
+    """The whole ``fix --json`` document of one file."""
+    change = mass_change(result.links)
     return {
         "file": str(result.path),
         "robot": result.robot.name,
         "changed": result.changed,
         "links_left": [{"link": r.name, "line": result.left_error(r).line,
                         "reason": r.reason} for r in result.left],
-        "document_problems": [problem_dict(p) for p in result.robot.problems
-                              if p.link is None],
+        "robot_findings": [finding_dict(f) for f in result.robot_findings],
         "total_mass": {"before": change.before, "after": change.after,
                        "warning": change.warn and not result.targets,
                        "target": next((t.target for t in result.targets if t.name is None),

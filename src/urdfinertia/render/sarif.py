@@ -1,6 +1,6 @@
 """SARIF 2.1.0 for code scanning (GitHub, GitLab, VS Code's SARIF viewer).
 
-One run, one result per finding: ``ruleId`` from :data:`analysis.check.RULES` (stable),
+One run, one result per finding: ``ruleId`` from the rule registry (:mod:`urdfinertia.rules`),
 the start tag of the offending element as region, the link as logical location, and with
 a baseline ``baselineState`` ("unchanged" for known findings, "new" otherwise). The
 ``partialFingerprints`` use the baseline's key (rule, file, link), so code scanning also
@@ -14,9 +14,9 @@ import os
 from pathlib import Path
 
 from urdfinertia import __version__
-from urdfinertia.analysis.check import RULES, Rule
 from urdfinertia.analysis.locate import CheckedFile
 from urdfinertia.plan.edits import TextEdit
+from urdfinertia.rules import Rule
 
 SARIF_SCHEMA = ("https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/"
                 "sarif-schema-2.1.0.json")
@@ -41,21 +41,18 @@ def artifact_uri(path: Path) -> str:
 
 
 def _rule_json(rule: Rule) -> dict:
-    return {"id": rule.id, "name": rule.code,
+    return {"id": rule.id, "name": rule.value,
             "shortDescription": {"text": rule.summary},
+            "fullDescription": {"text": rule.meaning},
             "defaultConfiguration": {"level": LEVELS[rule.severity]},
-            "properties": {"element": rule.element}}
+            "properties": {"scope": rule.scope.value, "fix": rule.fix.value}}
 
 
 def sarif_document(files: list[CheckedFile], *, with_baseline: bool = False,
                    include_info: bool = False) -> dict:
     """The SARIF log of a check run over ``files``."""
-    rules = list(RULES.values())
-    extra = sorted({f.rule.id for cf in files for f in cf.findings} - {r.id for r in rules})
+    rules = list(Rule)
     index = {r.id: i for i, r in enumerate(rules)}
-    for rid in extra:  # unregistered codes still get a descriptor (see rule_of)
-        index[rid] = len(rules)
-        rules.append(Rule(rid, rid, "link", "warning", rid))
     results = []
     for cf in files:
         uri = artifact_uri(cf.path)
@@ -79,7 +76,7 @@ def sarif_document(files: list[CheckedFile], *, with_baseline: bool = False,
                 "partialFingerprints": {"urdfInertiaKey/v1": _fingerprint(
                     rule.id, uri, finding.link)},
             }
-            edit = cf.fixes.get(finding.link or "") if finding.code == "slip-proposed" \
+            edit = cf.fixes.get(finding.link or "") if finding.rule == Rule.SLIP_PROPOSED \
                 else None
             if edit is not None:  # the slip undone, as fix writes it
                 result["fixes"] = [_fix_json(uri, edit, cf.decision_of(finding.link))]

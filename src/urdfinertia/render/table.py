@@ -11,7 +11,7 @@ from rich.table import Table
 from urdfinertia.analysis.explain import Breakdown, Contribution, link_breakdown
 from urdfinertia.body.geometry_choice import KIND_WORDS
 from urdfinertia.plan.results import LinkResult
-from urdfinertia.render.decisions import link_notes
+from urdfinertia.render.decisions import link_notes, note_text, verdict_notes
 
 
 def _g(x: float) -> str:
@@ -46,17 +46,13 @@ def _fix_columns(width: int | None) -> list[str]:
 
 
 def _notes(r: LinkResult) -> str:
-    """Decision, kept/derived, mass source, error bar, then problems and warnings; each
-    note once. The error bar is its band only ("±79 %"): its basis is in ``--json`` and
-    ``explain``."""
+    """Decision, kept/derived, mass source, error bar, then the verdict's note findings
+    (elements dropped, meshes repaired ...); each note once. The error bar is its band only
+    ("±79 %"): its basis is in ``--json`` and ``explain``."""
     full_bar = str(r.error_bar) if r.error_bar is not None else None
     short_bar = f"±{100 * r.error_bar.band:.0f} %" if r.error_bar is not None else None
-    decided = [short_bar if n == full_bar else n for n in link_notes(r, warnings=False)]
-    dropped = [f"{p.element} dropped (line {p.line}): {p.cause}" for p in r.problems
-               if p.kind == "dropped" and p.element]
-    ignored = [f"{p.element or 'value'} ignored (line {p.line}): {p.cause}"
-               for p in r.problems if p.kind == "ignored"]
-    notes = (*decided, *dropped, *ignored, *collapse_notes(r.warnings))
+    decided = [short_bar if n == full_bar else n for n in link_notes(r, findings=False)]
+    notes = (*decided, *collapse_notes([note_text(f) for f in verdict_notes(r)]))
     return "; ".join(dict.fromkeys(x for x in notes if x))
 
 

@@ -105,7 +105,7 @@ def test_handmade_values_and_notes():
     assert joints["shoulder"].lower == pytest.approx(np.radians(-45))
     assert joints["pin"].effort == 5.0  # actuatorfrcrange alone
     np.testing.assert_allclose(joints["pin"].axis_point, (0, 0, 0.05), atol=1e-15)
-    notes = "\n".join(robot.joint_notes)
+    notes = "\n".join(f.message for f in robot.findings)
     assert "'slider' has 2 joints" in notes and "'twist'" in notes
 
 
@@ -138,7 +138,7 @@ def test_fix_does_not_print_what_only_statics_uses(tmp_path, capsys):
     from urdfinertia import cli
 
     path = DATA / "arm.xml"
-    assert robot_from_bytes(path.read_bytes(), path).joint_notes  # the fixture has some
+    assert robot_from_bytes(path.read_bytes(), path).findings  # the fixture has some
     cli.main(["fix", str(path), "-o", str(tmp_path / "arm.xml"), "-q"])
     err = capsys.readouterr().err
     assert "statics" not in err and "has 2 joints" not in err

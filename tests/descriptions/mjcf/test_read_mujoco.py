@@ -211,7 +211,8 @@ def test_geom_problems_drop_the_geom_with_a_note(tmp_path):
     result = fix_file(path, FixOptions(recompute="all", mass="density"))
     (link,) = result.links
     assert link.status == "recomputed"
-    assert any("bad.xml:3 dropped" in w and "size" in w for w in link.warnings)
+    assert any("bad.xml:3" in (f.element or "") and "dropped" in f.message and "size" in
+               f.message for f in link.findings)
     assert len(link.assembly.parts) == 1
 
 

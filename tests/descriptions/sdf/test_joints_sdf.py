@@ -23,7 +23,7 @@ _LINKS = """<link name="a"/><link name="b"><pose>{pose}</pose></link>"""
 def _joint(body: str, version: str = "1.11", pose: str = "0 0 0 0 0 0"):
     doc = sdf_doc(f'<model name="m">{_LINKS.format(pose=pose)}{body}</model>', version)
     robot = robot_from_bytes(doc, "m.sdf")
-    return {j.name: j for j in robot.joints}, robot.joint_notes
+    return {j.name: j for j in robot.joints}, [f"{f.element}: {f.message}" for f in robot.findings]
 
 
 def _revolute(axis: str, pose: str = "", limit: str = "", name: str = "j") -> str:

@@ -23,10 +23,10 @@ EXPECTED = {
 
 
 def test_each_rule_on_its_body_only():
-    robot, _ = read_description(ASSET, lenient=True)
+    robot, _ = read_description(ASSET)
     found: dict[str, set[str]] = {}
-    for p in robot.problems:
-        found.setdefault(p.link, set()).add(p.code)
+    for f in robot.findings:
+        found.setdefault(f.link, set()).add(f.code)
     assert found == EXPECTED  # "good" (a cube's tensor, turned 90 deg) has none
 
 

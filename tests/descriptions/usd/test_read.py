@@ -18,8 +18,8 @@ F32 = 1e-6
 
 @pytest.mark.parametrize("name", all_assets())
 def test_every_converted_robot_reads(name):
-    robot, _ = read_description(asset(name), lenient=True)
-    src, _ = read_description(source(name), lenient=True)
+    robot, _ = read_description(asset(name))
+    src, _ = read_description(source(name))
     assert robot.format == "usd"
     assert len(robot.links) >= 3
     # every body is a link of the source (a URDF's massless 'world' root is no body), and
@@ -32,7 +32,7 @@ def test_every_converted_robot_reads(name):
             sum(len(getattr(lk, role)) for lk in src.links)
     # the converters write newton:inertia beside the MassAPI: our principalAxes
     # convention (T = R diag R^T) is theirs, so no disagreement is found
-    assert not [p for p in robot.problems if p.code == "usd-newton-mass-disagrees"]
+    assert not [f for f in robot.findings if f.code == "usd-newton-mass-disagrees"]
 
 
 @pytest.mark.parametrize("name", URDF_SOURCES)
@@ -82,7 +82,8 @@ def test_a_body_without_mass_is_said_to_be_computed_by_the_engine():
     robot, _ = read_description(asset("ant_mjcf"))
     torso = robot.link("torso")
     assert torso.inertial is None
-    assert any("engine computes mass, CoM and inertia" in n for n in torso.notes)
+    assert torso.implicit is not None and torso.implicit.source == "colliders"
+    assert torso.implicit.mass is None  # the engine computes the mass too
     # MuJoCo's geom density (ant.xml: 5) carried onto each collision
     assert {c.density for c in torso.collisions} == {5.0}
 

@@ -52,7 +52,7 @@ def test_override_composes_to_what_fix_computes_for_the_source(name, tmp_path):
         compared += 1
     assert compared >= 3
     # Newton's full tensor is written beside the MassAPI and agrees with it
-    assert not [p for p in composed.problems if p.code == "usd-newton-mass-disagrees"]
+    assert not [f for f in composed.findings if f.code == "usd-newton-mass-disagrees"]
 
 
 def test_override_layer_keeps_the_stage_units_and_default_prim(tmp_path):

@@ -16,12 +16,6 @@ def _read(data, path):  # noqa: ANN001, ANN202 - the format's signature
     return robot_from_bytes(data, path)
 
 
-def _read_lenient(data, path):  # noqa: ANN001, ANN202
-    from urdfinertia.descriptions.mjcf.read import robot_from_bytes
-
-    return robot_from_bytes(data, path, lenient=True)
-
-
 def _patch(data, new):  # noqa: ANN001, ANN202
     from urdfinertia.descriptions.mjcf.write import patch_inertials
 
@@ -36,5 +30,5 @@ def _relocate(data, source_dir, output_dir):  # noqa: ANN001, ANN202
 
 register_format(DescriptionFormat(
     name="mjcf", roots=("mujoco",), suffixes=(".xml", ".mjcf"),
-    read=_read, read_lenient=_read_lenient, patch=_patch, relocate=_relocate,
+    read=_read, patch=_patch, relocate=_relocate,
 ))

@@ -40,6 +40,7 @@ from urdfinertia.descriptions.model import (
     Shape,
     Sphere,
 )
+from urdfinertia.rules import Rule
 
 if TYPE_CHECKING:
     from urdfinertia.descriptions.mjcf.document import MjcfDocument
@@ -92,7 +93,7 @@ def _size(attrs: dict[str, str], count: int, kind: str) -> tuple[float, ...]:
     values = values + (0.0,) * (3 - len(values))
     if not all(v > 0 for v in values[:count]):
         raise GeomError(f'{kind} size="{attrs.get("size", "")}" needs {count} positive '
-                        "number(s)")
+                        "number(s)", Rule.ZERO_SIZE_PRIMITIVE)
     return values
 
 
@@ -129,26 +130,28 @@ def _primitive(kind: str, attrs: dict[str, str]) -> tuple[Shape, np.ndarray | No
         return Box(tuple(2 * v for v in _size(attrs, 3, kind))), pose  # type: ignore[arg-type]
     if kind == "ellipsoid":
         return Ellipsoid(_size(attrs, 3, kind)), pose  # type: ignore[arg-type]
-    raise GeomError(f'type="{kind}" is not supported')
+    raise GeomError(f'type="{kind}" is not supported', Rule.UNSUPPORTED_GEOMETRY)
 
 
 def _mesh(attrs: dict[str, str], doc: MjcfDocument) -> tuple[Shape, np.ndarray, str | None]:
     """The mesh shape of a mesh geom and the mesh file's pose in the geom frame."""
     name = attrs.get("mesh")
     if not name:
-        raise GeomError('type="mesh" without a mesh attribute')
+        raise GeomError('type="mesh" without a mesh attribute', Rule.MISSING_ATTRIBUTE)
     asset = doc.meshes.get(name)
     if asset is None:
-        raise GeomError(f"no <mesh name=\"{name}\"> among the assets")
+        raise GeomError(f"no <mesh name=\"{name}\"> among the assets", Rule.MESH_UNRESOLVED)
     a = asset.attrs
     if "file" not in a:
-        raise GeomError(f"mesh '{name}' has inline vertex data (only mesh files are read)")
+        raise GeomError(f"mesh '{name}' has inline vertex data (only mesh files are read)",
+                        Rule.UNSUPPORTED_GEOMETRY)
     inertia = a.get("inertia", "legacy")
     if inertia == "shell":
-        raise GeomError(f"mesh '{name}' has inertia=\"shell\" (surface mass): not supported")
+        raise GeomError(f"mesh '{name}' has inertia=\"shell\" (surface mass): not supported",
+                        Rule.UNSUPPORTED_GEOMETRY)
     scale = numbers(a.get("scale", "1 1 1"), 3, "scale")
     if any(s == 0 for s in scale):
-        raise GeomError(f"mesh '{name}' has a zero scale component")
+        raise GeomError(f"mesh '{name}' has a zero scale component", Rule.ZERO_SIZE_PRIMITIVE)
     refpos = np.array(numbers(a.get("refpos", "0 0 0"), 3, "refpos"))
     try:
         refrot = quat_matrix(numbers(a.get("refquat", "1 0 0 0"), 4, "refquat"))
@@ -182,7 +185,8 @@ def geom_ref(el: etree._Element, attrs: dict[str, str], doc: MjcfDocument, frame
     if kind in _NO_VOLUME:
         return None
     if attrs.get("shellinertia", "false") == "true":
-        raise GeomError('shellinertia="true" (surface mass) is not supported')
+        raise GeomError('shellinertia="true" (surface mass) is not supported',
+                        Rule.UNSUPPORTED_GEOMETRY)
     note = None
     pose = pose_attrs(attrs, el.attrib, doc)
     if kind == "mesh":

@@ -28,6 +28,8 @@ from lxml import etree
 
 from urdfinertia.descriptions.mjcf.document import MjcfDocument, Source
 from urdfinertia.descriptions.mjcf.numbers import GeomError, numbers
+from urdfinertia.findings import Finding
+from urdfinertia.rules import Rule
 
 #: MJCF's actuator elements (the shortcuts and ``general``)
 ACTUATOR_TAGS = ("general", "motor", "position", "velocity", "intvelocity", "damper",
@@ -98,11 +100,11 @@ def _force(tag: str, attrs: dict[str, str], doc: MjcfDocument) -> float | None:
     return min(bounds) if bounds else None
 
 
-def actuator_efforts(doc: MjcfDocument) -> tuple[dict[str, float | None], list[str]]:
+def actuator_efforts(doc: MjcfDocument) -> tuple[dict[str, float | None], list[Finding]]:
     """Per joint name, the summed largest torque (force) of the actuators on it (None: one
-    of them is unbounded); and notes on what could not be read or bounded."""
+    of them is unbounded); and findings on what could not be read or bounded."""
     efforts: dict[str, float | None] = {}
-    notes: list[str] = []
+    notes: list[Finding] = []
     for section, src in doc.children(doc.main.root, doc.main):
         if section.tag != "actuator":
             continue
@@ -116,12 +118,14 @@ def actuator_efforts(doc: MjcfDocument) -> tuple[dict[str, float | None], list[s
                 gear = abs(numbers(attrs.get("gear", "1"), 6, "gear", at_least=1)[0])
                 force = _force(el.tag, attrs, doc)
             except GeomError as exc:
-                notes.append(f"{where}: {exc}; joint '{joint}' is not judged")
+                notes.append(Finding(Rule.JOINT_UNREADABLE, None, f"{where}: {exc}; joint "
+                                     f"'{joint}' is not judged", el.sourceline, where))
                 efforts[joint] = None
                 continue
             if force is None:
-                notes.append(f"{where} on joint '{joint}' has no force bound (no "
-                             "forcerange, and no ctrlrange a gain turns into one): not judged")
+                notes.append(Finding(Rule.READER_NOTE, None, f"{where} on joint '{joint}' "
+                                     "has no force bound (no forcerange, and no ctrlrange a "
+                                     "gain turns into one): not judged", el.sourceline))
                 efforts[joint] = None
             elif joint not in efforts or efforts[joint] is not None:
                 efforts[joint] = (efforts.get(joint) or 0.0) + gear * force

@@ -5,10 +5,16 @@ from __future__ import annotations
 import math
 
 from urdfinertia.descriptions.urdf.read import _NUMBER, MAX_MAGNITUDE
+from urdfinertia.rules import Rule
 
 
 class GeomError(ValueError):
-    """One element's value cannot be used (the element is dropped, with this cause)."""
+    """One element's value cannot be used (the element is dropped, with this cause and
+    its :class:`~urdfinertia.rules.Rule`: by default ``vector-unparseable``)."""
+
+    def __init__(self, cause: str, rule: Rule = Rule.VECTOR_UNPARSEABLE) -> None:
+        super().__init__(cause)
+        self.rule = rule
 
 
 def numbers(text: str, n: int, attr: str, *, finite: bool = True, at_least: int | None = None,

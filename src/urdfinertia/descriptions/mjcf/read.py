@@ -36,8 +36,18 @@ from urdfinertia.descriptions.mjcf.geoms import geom_ref, pose_attrs
 from urdfinertia.descriptions.mjcf.joints import actuator_efforts, joint_motion
 from urdfinertia.descriptions.mjcf.numbers import GeomError, numbers
 from urdfinertia.descriptions.mjcf.orientation import matrix_rpy
-from urdfinertia.descriptions.model import GeometryRef, Inertial, Joint, Link, Origin, Robot
+from urdfinertia.descriptions.model import (
+    GeometryRef,
+    Implicit,
+    Inertial,
+    Joint,
+    Link,
+    Origin,
+    Robot,
+)
 from urdfinertia.errors import UrdfError
+from urdfinertia.findings import Finding
+from urdfinertia.rules import Rule
 
 _JOINT_TYPES = {"hinge": "revolute", "slide": "prismatic", "ball": "ball", "free": "floating"}
 #: an axis line this far (m) from the body's origin is off it
@@ -70,13 +80,16 @@ class _Body:
     #: the first joint element: its type, name, class-resolved attributes, frame in the body
     first_joint: tuple[str, str | None, dict[str, str], np.ndarray, int | None] | None = None
     inertial: Inertial | None = None
-    notes: list[str] = field(default_factory=list)
+    notes: list[Finding] = field(default_factory=list)
+
+    def note(self, rule: Rule, message: str, line: int | None = None,
+             element: str | None = None) -> None:
+        self.notes.append(Finding(rule, self.name, message, line, element))
 
 
 class _Reader:
-    def __init__(self, doc: MjcfDocument, lenient: bool) -> None:
+    def __init__(self, doc: MjcfDocument) -> None:
         self.doc = doc
-        self.lenient = lenient
         self.bodies: list[_Body] = []
         self.group_range = doc.inertia_group_range()
         self.efforts, self.joint_notes = actuator_efforts(doc)
@@ -93,8 +106,9 @@ class _Reader:
             seen.add(body.name)
         links = tuple(self._link(b) for b in self.bodies)
         joints = tuple(self._joint(b) for b in self.bodies)
+        found = [f for b in self.bodies for f in b.notes] + self.joint_notes
         return Robot(name=self.doc.model_name, links=links, joints=joints,
-                     path=self.doc.path, format="mjcf", joint_notes=tuple(self.joint_notes))
+                     path=self.doc.path, format="mjcf", findings=tuple(found))
 
     # -- the body tree -------------------------------------------------------------------
 
@@ -131,8 +145,9 @@ class _Reader:
             elif tag == "inertial":
                 body.inertial = self._inertial(child, csrc, body)
             elif tag in ("attach", "composite", "flexcomp"):
-                body.notes.append(f"<{tag}> at {csrc.path.name}:{child.sourceline} is not "
-                                  "expanded: its bodies and geoms are not seen")
+                body.note(Rule.READER_NOTE, f"<{tag}> at {csrc.path.name}:{child.sourceline} "
+                          "is not expanded: its bodies and geoms are not seen",
+                          child.sourceline)
 
     def _body(self, el: etree._Element, src: Source, parent: _Body | None, frame: np.ndarray,
               childclass: str) -> None:
@@ -149,8 +164,8 @@ class _Reader:
             return pose_attrs(attrs, el.attrib, self.doc)
         except GeomError as exc:
             if body is not None:
-                body.notes.append(f"<{el.tag}> at line {el.sourceline}: {exc}; taken as "
-                                  "identity")
+                body.note(Rule.VALUE_UNREADABLE, f"<{el.tag}> at line {el.sourceline}: {exc}; "
+                          "taken as identity", el.sourceline, f"<{el.tag}> pose")
                 return np.eye(4)
             raise UrdfError(str(exc), file=src.path, line=el.sourceline, link=link) from None
 
@@ -161,14 +176,14 @@ class _Reader:
         try:
             found = geom_ref(el, attrs, self.doc, frame)
         except GeomError as exc:
-            body.notes.append(f"{where} dropped: {exc}")
+            body.note(exc.rule, f"dropped: {exc}", el.sourceline, where)
             return
         if found is None:
             return  # a plane or height field: no volume, no inertia in MuJoCo either
         ref, group, note = found
         ref = dataclasses.replace(ref, index=sum(r.role == ref.role for r in body.geoms))
         if note:
-            body.notes.append(f"{where}: {note}")
+            body.note(Rule.READER_NOTE, note, el.sourceline, where)
         body.geoms.append(ref)
         stated_zero = ref.mass == 0.0 or (ref.mass is None and ref.density == 0.0)
         if self.group_range[0] <= group <= self.group_range[1] and not stated_zero:
@@ -176,10 +191,10 @@ class _Reader:
 
     def _inertial(self, el: etree._Element, src: Source, body: _Body) -> Inertial | None:
         try:
-            return _read_inertial(el, self.doc, self.lenient)
+            return _read_inertial(el, self.doc)
         except GeomError as exc:
-            body.notes.append(f"<inertial> at {src.path.name}:{el.sourceline} cannot be "
-                              f"used: {exc}")
+            body.note(exc.rule, f"<inertial> at {src.path.name}:{el.sourceline} cannot be "
+                      f"read: {exc}", el.sourceline, "inertial")
             return None
 
     # -- model objects -------------------------------------------------------------------
@@ -188,9 +203,15 @@ class _Reader:
         collisions = self._materials(body, [r for r in body.geoms if r.role == "collision"])
         visuals = self._materials(body, [r for r in body.geoms if r.role == "visual"])
         counted = self._materials(body, body.counted)
+        # MuJoCo computes a body's mass properties from its geoms where it has no
+        # <inertial> (inertiafromgeom "auto", the default) or always ("true")
+        mode = self.doc.inertia_from_geom
+        implicit = (Implicit("geoms") if mode == "true" or (mode == "auto"
+                                                             and body.inertial is None)
+                    else None)
         return Link(name=body.name, collisions=tuple(collisions), visuals=tuple(visuals),
-                    inertial=body.inertial, line=body.el.sourceline,
-                    inertia_geometry=tuple(counted), notes=tuple(body.notes),
+                    inertial=body.inertial, line=body.el.sourceline, implicit=implicit,
+                    inertia_geometry=tuple(counted),
                     read_only=None if body.src.main else
                     f"defined in included file {body.src.path.name}, which is not written")
 
@@ -221,8 +242,10 @@ class _Reader:
             name = first[1] or name
             motion = self._motion(body, first, name)
             if len(kinds) > 1:
-                self.joint_notes.append(f"body '{body.name}' has {len(kinds)} joints: "
-                                        f"whole-robot statics judges only the first, '{name}'")
+                self.joint_notes.append(Finding(
+                    Rule.READER_NOTE, body.name, f"body '{body.name}' has {len(kinds)} "
+                    f"joints: whole-robot statics judges only the first, '{name}'",
+                    body.el.sourceline))
         return Joint(name=name, type=kind, parent=body.parent, child=body.name,
                      origin=_origin(body.pose), line=body.el.sourceline,
                      **motion)  # type: ignore[arg-type]
@@ -234,8 +257,9 @@ class _Reader:
         try:
             motion, point = joint_motion(attrs, kind, frame, self.doc)
         except GeomError as exc:
-            self.joint_notes.append(f"joint '{name}' (line {line}): {exc}; its motion is not "
-                                    "read")
+            self.joint_notes.append(Finding(
+                Rule.JOINT_UNREADABLE, body.name, f"joint '{name}' (line {line}): {exc}; its "
+                "motion is not read", line, f"joint '{name}'"))
             return {}
         if own is not None and own in self.efforts:
             actuated = self.efforts[own]
@@ -254,27 +278,24 @@ def _origin(pose: np.ndarray) -> Origin:
     return Origin(xyz, matrix_rpy(pose[:3, :3]))  # type: ignore[arg-type]
 
 
-def _read_inertial(el: etree._Element, doc: MjcfDocument, lenient: bool) -> Inertial:
+def _read_inertial(el: etree._Element, doc: MjcfDocument) -> Inertial:
+    """The ``<inertial>`` exactly as written: non-finite, negative and absurd values are
+    kept for the judgement."""
     attrs = dict(el.attrib)
     if "pos" not in attrs:
         raise GeomError("missing attribute 'pos'")
     if "mass" not in attrs:
         raise GeomError("missing attribute 'mass'")
-    pose = pose_attrs(attrs, attrs, doc, finite=not lenient)
-    mass = numbers(attrs["mass"], 1, "mass", finite=not lenient)[0]
+    pose = pose_attrs(attrs, attrs, doc, finite=False)
+    mass = numbers(attrs["mass"], 1, "mass", finite=False)[0]
     if "fullinertia" in attrs:
-        f = numbers(attrs["fullinertia"], 6, "fullinertia", finite=not lenient)
+        f = numbers(attrs["fullinertia"], 6, "fullinertia", finite=False)
         values = (f[0], f[3], f[4], f[1], f[5], f[2])  # ixx ixy ixz iyy iyz izz
     elif "diaginertia" in attrs:
-        d = numbers(attrs["diaginertia"], 3, "diaginertia", finite=not lenient)
+        d = numbers(attrs["diaginertia"], 3, "diaginertia", finite=False)
         values = (d[0], 0.0, 0.0, d[1], 0.0, d[2])
     else:
-        raise GeomError("needs diaginertia or fullinertia")
-    if not lenient:
-        if mass < 0:
-            raise GeomError(f"mass {mass:g} is negative")
-        if min(values[0], values[3], values[5]) < 0:
-            raise GeomError("a diagonal moment is negative")
+        raise GeomError("needs diaginertia or fullinertia", rule=Rule.MISSING_ATTRIBUTE)
     if all(math.isfinite(v) for v in pose.flat):
         origin = _origin(pose)
     else:  # lenient reading of a NaN pose: keep it visible to the linter
@@ -282,7 +303,7 @@ def _read_inertial(el: etree._Element, doc: MjcfDocument, lenient: bool) -> Iner
     return Inertial(origin, mass, *values, line=el.sourceline)
 
 
-def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) -> Robot:
-    """The robot model of an MJCF document (``lenient``: keep non-finite inertial values)."""
+def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
+    """The robot model of an MJCF document (inertial values exactly as written)."""
     doc = MjcfDocument(data, Path(path))
-    return _Reader(doc, lenient).read()
+    return _Reader(doc).read()

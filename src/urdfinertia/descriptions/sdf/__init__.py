@@ -23,12 +23,6 @@ def _read(data: bytes, path: Path) -> Robot:
     return robot_from_bytes(data, path)
 
 
-def _read_lenient(data: bytes, path: Path) -> Robot:
-    from urdfinertia.descriptions.sdf.read import robot_from_bytes
-
-    return robot_from_bytes(data, path, lenient=True)
-
-
 def _patch(data: bytes, new: NewInertials) -> bytes:
     from urdfinertia.descriptions.sdf.write import patch_inertials
 
@@ -43,5 +37,5 @@ def _relocate(data: bytes, source_dir: Path, output_dir: Path) -> tuple[bytes, i
 
 register_format(DescriptionFormat(
     name="sdf", roots=("sdf",), suffixes=(".sdf", ".world"),
-    read=_read, read_lenient=_read_lenient, patch=_patch, relocate=_relocate,
+    read=_read, patch=_patch, relocate=_relocate,
 ))

@@ -29,6 +29,13 @@ from lxml import etree
 from urdfinertia.descriptions.sdf.poses import MODEL_FRAME, Scope
 from urdfinertia.descriptions.urdf.read import _NUMBER, MAX_MAGNITUDE
 from urdfinertia.errors import UrdfError
+from urdfinertia.findings import Finding
+from urdfinertia.rules import Rule
+
+
+def _unread(el: etree._Element, name: str, message: str) -> Finding:
+    """What statics cannot read of joint ``name``'s motion (it judges the joint without)."""
+    return Finding(Rule.JOINT_UNREADABLE, None, message, el.sourceline, f"joint '{name}'")
 
 #: SDFormat's default limits (+-1e16) and anything beyond: no limit
 _UNLIMITED = 1e16
@@ -69,7 +76,7 @@ def _axis_frame(axis: etree._Element | None, xyz: etree._Element | None,
 
 
 def joint_motion(el: etree._Element, scope: Scope, child: str, name: str,
-                 version: tuple[int, ...], notes: list[str]) -> dict[str, object]:
+                 version: tuple[int, ...], notes: list[Finding]) -> dict[str, object]:
     """Keyword arguments of :class:`~urdfinertia.descriptions.model.Joint` for ``axis``,
     ``lower``, ``upper``, ``effort`` and ``mimic`` of joint ``el`` of model ``scope``
     (``child``: its child link's name in that scope; ``name``: as the robot names it)."""
@@ -81,8 +88,8 @@ def joint_motion(el: etree._Element, scope: Scope, child: str, name: str,
     if xyz is not None:
         read = _floats(xyz, 3)
         if read is None or not any(read):
-            notes.append(f"joint '{name}': <axis><xyz>{(xyz.text or '').strip()}</xyz> "
-                         f"unreadable (line {xyz.sourceline}): 0 0 1 taken")
+            notes.append(_unread(el, name, f"<axis><xyz>{(xyz.text or '').strip()}</xyz> "
+                                 f"unreadable (line {xyz.sourceline}): 0 0 1 taken"))
         else:
             direction = np.array(read)
     try:
@@ -91,8 +98,8 @@ def joint_motion(el: etree._Element, scope: Scope, child: str, name: str,
         frame = _axis_frame(axis_el, xyz, version)
         expressed = joint_pose if frame is None else scope.in_model(frame)
     except UrdfError as exc:
-        notes.append(f"joint '{name}': axis frame unresolved ({exc.cause}): statics takes "
-                     "it as given, in the child link frame")
+        notes.append(_unread(el, name, f"axis frame unresolved ({exc.cause}): statics "
+                             "takes it as given, in the child link frame"))
         child_pose = joint_pose = expressed = np.eye(4)
     in_child = child_pose[:3, :3].T @ expressed[:3, :3] @ direction
     in_child = in_child / np.linalg.norm(in_child)
@@ -104,8 +111,8 @@ def joint_motion(el: etree._Element, scope: Scope, child: str, name: str,
             continue
         read = _floats(item, 1, math.inf)
         if read is None:
-            notes.append(f"joint '{name}': <limit><{key}> unreadable (line "
-                         f"{item.sourceline}): left out")
+            notes.append(_unread(el, name, f"<limit><{key}> unreadable (line "
+                                 f"{item.sourceline}): left out"))
             continue
         value = read[0]
         if key == "effort":

@@ -48,6 +48,8 @@ from urdfinertia.descriptions.sdf.poses import MODEL_FRAME, Scope, matrix_rpy, p
 from urdfinertia.descriptions.urdf.read import _NUMBER, MAX_MAGNITUDE
 from urdfinertia.descriptions.xml import parse_document
 from urdfinertia.errors import UrdfError
+from urdfinertia.findings import Finding
+from urdfinertia.rules import Rule
 
 #: SDFormat 1.11's default density for automatic inertia, kg/m^3 (water).
 DEFAULT_DENSITY = 1000.0
@@ -62,8 +64,17 @@ _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 _INERTIA_DEFAULTS = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, "izz": 1.0}
 
 
+#: a finding on a link before the link's name is known: (rule, message, line, element)
+_Note = tuple[Rule, str, "int | None", "str | None"]
+
+
 class _Dropped(Exception):
-    """An element that is left out, with the reason (becomes a note on its link)."""
+    """An element that is left out, with the reason and its rule (becomes a finding on its
+    link)."""
+
+    def __init__(self, cause: str, rule: Rule = Rule.VECTOR_UNPARSEABLE) -> None:
+        super().__init__(cause)
+        self.rule = rule
 
 
 _LATE_DECLARATION = re.compile(rb"\A(\s+)(<\?xml\b[^>]*\?>)")
@@ -102,10 +113,12 @@ def _declare_prefixes(data: bytes) -> bytes:
 @dataclass
 class _Ctx:
     path: Path
-    lenient: bool
-    robot_notes: list[str] = field(default_factory=list)
-    #: what could not be read of the joints' motion (for statics only)
-    joint_notes: list[str] = field(default_factory=list)
+    #: findings about the document (and, for statics, the joints' motion)
+    robot_notes: list[Finding] = field(default_factory=list)
+
+    def note(self, rule: Rule, message: str, line: int | None = None,
+             link: str | None = None, element: str | None = None) -> None:
+        self.robot_notes.append(Finding(rule, link, message, line, element))
 
     def numbers(self, el: etree._Element, text: str, *, finite: bool = True
                 ) -> tuple[float, ...]:
@@ -174,10 +187,11 @@ def _bool(el: etree._Element | None, default: bool = False) -> bool:
     return (el if isinstance(el, str) else (el.text or "")).strip().lower() in ("true", "1")
 
 
-def _shape(geometry: etree._Element, ctx: _Ctx, notes: list[str], label: str) -> Shape:
+def _shape(geometry: etree._Element, ctx: _Ctx, notes: list[_Note], label: str) -> Shape:
     kids = [c for c in geometry if isinstance(c.tag, str)]
     if len(kids) != 1:
-        raise _Dropped(f"<geometry> must hold exactly one shape (line {geometry.sourceline})")
+        raise _Dropped(f"<geometry> must hold exactly one shape (line {geometry.sourceline})",
+                       Rule.UNSUPPORTED_GEOMETRY)
     el = kids[0]
     kind = el.tag
     if kind == "box":
@@ -192,7 +206,8 @@ def _shape(geometry: etree._Element, ctx: _Ctx, notes: list[str], label: str) ->
         length_el = _child(el, "length")
         length = ctx.number(length_el) if length_el is not None else 1.0
         if length < 0:
-            raise _Dropped(f"<capsule> length must be >= 0 (line {el.sourceline})")
+            raise _Dropped(f"<capsule> length must be >= 0 (line {el.sourceline})",
+                           Rule.ZERO_SIZE_PRIMITIVE)
         return Capsule(radius, length)
     if kind == "ellipsoid":
         return Ellipsoid(ctx.positive(el, "radii", 3, (1.0, 1.0, 1.0)))  # type: ignore[arg-type]
@@ -200,22 +215,25 @@ def _shape(geometry: etree._Element, ctx: _Ctx, notes: list[str], label: str) ->
         uri_el = _child(el, "uri")
         uri = (uri_el.text or "").strip() if uri_el is not None else ""
         if not uri:
-            raise _Dropped(f"<mesh> has no <uri> (line {el.sourceline})")
+            raise _Dropped(f"<mesh> has no <uri> (line {el.sourceline})", Rule.MISSING_ATTRIBUTE)
         scale_el = _child(el, "scale")
         scale = ctx.numbers(scale_el, scale_el.text or "") if scale_el is not None else (
             1.0, 1.0, 1.0)
         if len(scale) != 3 or any(s == 0 for s in scale):
-            raise _Dropped(f"<mesh><scale> must be 3 non-zero numbers (line {el.sourceline})")
+            raise _Dropped(f"<mesh><scale> must be 3 non-zero numbers (line {el.sourceline})",
+                           Rule.ZERO_SIZE_PRIMITIVE)
         submesh = _child(el, "submesh")
         if submesh is not None:
             name_el = _child(submesh, "name")
             name = (name_el.text or "").strip() if name_el is not None else ""
-            notes.append(f"{label}: <submesh> '{name}' not honoured: the whole mesh file "
-                         "is used")
+            notes.append((Rule.READER_NOTE, f"<submesh> '{name}' not honoured: the whole "
+                          "mesh file is used", submesh.sourceline, label))
         return Mesh(uri, (scale[0], scale[1], scale[2]))
     if kind in _NO_VOLUME:
-        raise _Dropped(f"<{kind}> (line {el.sourceline}): {_NO_VOLUME[kind]}")
-    raise _Dropped(f"unsupported geometry <{kind}> (line {el.sourceline})")
+        raise _Dropped(f"<{kind}> (line {el.sourceline}): {_NO_VOLUME[kind]}",
+                       Rule.UNSUPPORTED_GEOMETRY)
+    raise _Dropped(f"unsupported geometry <{kind}> (line {el.sourceline})",
+                   Rule.UNSUPPORTED_GEOMETRY)
 
 
 @dataclass
@@ -237,8 +255,8 @@ def _build_scope(model_el: etree._Element, ctx: _Ctx, name: str) -> Scope:
         try:
             t, rel = _pose(el, ctx)
         except _Dropped as exc:
-            ctx.robot_notes.append(f"<{el.tag} name='{frame_name}'> pose unreadable, taken "
-                                   f"as identity: {exc}")
+            ctx.note(Rule.VALUE_UNREADABLE, f"<{el.tag} name='{frame_name}'> pose "
+                     f"unreadable, taken as identity: {exc}", el.sourceline)
             t, rel = np.eye(4), None
         if el.tag == "joint":
             child = _child(el, "child")
@@ -250,13 +268,13 @@ def _build_scope(model_el: etree._Element, ctx: _Ctx, name: str) -> Scope:
         try:
             scope.add(frame_name, t, rel or default, el.sourceline)
         except UrdfError as exc:
-            ctx.robot_notes.append(f"line {el.sourceline}: {exc.cause}")
+            ctx.note(Rule.DUPLICATE_NAME, exc.cause, el.sourceline)
             continue
         if el.tag == "model":
             scope.nested[frame_name] = _build_scope(el, ctx, frame_name)
             if el.get("placement_frame"):
-                ctx.robot_notes.append(f"model '{frame_name}': placement_frame not honoured "
-                                       "(its pose is taken as the model frame's)")
+                ctx.note(Rule.READER_NOTE, f"model '{frame_name}': placement_frame not "
+                         "honoured (its pose is taken as the model frame's)", el.sourceline)
     return scope
 
 
@@ -270,7 +288,8 @@ def _in_link(scope: Scope, link_pose: np.ndarray, t: np.ndarray, rel: str | None
 
 
 def _geometry(link_el: etree._Element, role: str, scope: Scope, link_pose: np.ndarray,
-              ctx: _Ctx, notes: list[str], density: float | None) -> tuple[GeometryRef, ...]:
+              ctx: _Ctx, notes: list[_Note], density: float | None,
+              ) -> tuple[GeometryRef, ...]:
     refs = []
     for index, el in enumerate(_children(link_el, role)):
         name = el.get("name")
@@ -278,7 +297,7 @@ def _geometry(link_el: etree._Element, role: str, scope: Scope, link_pose: np.nd
         try:
             geo = _child(el, "geometry")
             if geo is None:
-                raise _Dropped(f"no <geometry> (line {el.sourceline})")
+                raise _Dropped(f"no <geometry> (line {el.sourceline})", Rule.UNSUPPORTED_GEOMETRY)
             shape = _shape(geo, ctx, notes, label)
             t, rel = _pose(el, ctx)
             try:
@@ -292,7 +311,7 @@ def _geometry(link_el: etree._Element, role: str, scope: Scope, link_pose: np.nd
                 if not rho > 0:
                     raise _Dropped(f"<density> must be positive (line {el.sourceline})")
         except _Dropped as exc:
-            notes.append(f"{label} dropped: {exc}")
+            notes.append((exc.rule, f"dropped: {exc}", el.sourceline, label))
             continue
         refs.append(GeometryRef(role, index, name, _origin(pose), shape, el.sourceline,
                                 density=rho, relative=rho is not None))
@@ -301,7 +320,7 @@ def _geometry(link_el: etree._Element, role: str, scope: Scope, link_pose: np.nd
 
 def _inertial(el: etree._Element, scope: Scope, link_pose: np.ndarray, ctx: _Ctx,
               ) -> Inertial:
-    finite = not ctx.lenient
+    finite = False  # the inertial exactly as written, for the judgement
     mass_el = _child(el, "mass")
     mass = ctx.number(mass_el, finite=finite) if mass_el is not None else 1.0
     values = dict(_INERTIA_DEFAULTS)
@@ -330,11 +349,12 @@ def _uses_density(link_el: etree._Element) -> bool:
 def _link(el: etree._Element, frames: _ModelFrames, ctx: _Ctx) -> tuple[Link, np.ndarray]:
     local = el.get("name") or ""
     scope = frames.scope
-    notes: list[str] = []
+    notes: list[_Note] = []
     try:
         link_pose = scope.in_model(local)
     except UrdfError as exc:
-        notes.append(f"link pose cannot be resolved ({exc.cause}): taken as the model frame")
+        notes.append((Rule.VALUE_UNREADABLE, f"link pose cannot be resolved ({exc.cause}): "
+                      "taken as the model frame", el.sourceline, "pose"))
         link_pose = np.eye(4)
     inertial_el = _child(el, "inertial")
     auto = inertial_el is not None and _bool(inertial_el.get("auto"))
@@ -343,7 +363,8 @@ def _link(el: etree._Element, frames: _ModelFrames, ctx: _Ctx) -> tuple[Link, np
         try:
             inertial = _inertial(inertial_el, scope, link_pose, ctx)
         except _Dropped as exc:
-            notes.append(f"<inertial> unreadable, recomputed as if absent: {exc}")
+            notes.append((exc.rule, f"<inertial> unreadable, recomputed as if absent: {exc}",
+                          inertial_el.sourceline, "inertial"))
     density: float | None = None
     if auto or _uses_density(el):
         # SDFormat 1.11: collision <density>, else the inertial's <density>, else water
@@ -353,18 +374,22 @@ def _link(el: etree._Element, frames: _ModelFrames, ctx: _Ctx) -> tuple[Link, np
             try:
                 density = ctx.number(own)
             except _Dropped as exc:
-                notes.append(f"<inertial><density> unreadable, {DEFAULT_DENSITY:g} used: {exc}")
+                notes.append((exc.rule, f"<inertial><density> unreadable, "
+                              f"{DEFAULT_DENSITY:g} used: {exc}", own.sourceline, "inertial"))
     if auto:
         has_mass = inertial_el is not None and _child(inertial_el, "mass") is not None
-        notes.append('<inertial auto="true">: computed from the collisions as Gazebo '
-                     "does (fix writes the values and drops auto, unless --keep-auto)")
+        notes.append((Rule.READER_NOTE, '<inertial auto="true">: computed from the '
+                      "collisions as Gazebo does (fix writes the values and drops auto, "
+                      "unless --keep-auto)", inertial_el.sourceline if inertial_el is not None
+                      else None, "inertial"))
         if not has_mass:
             inertial = None  # the mass comes from the densities, as Gazebo computes it
     collisions = _geometry(el, "collision", scope, link_pose, ctx, notes, density)
     visuals = _geometry(el, "visual", scope, link_pose, ctx, notes, None)
     link = Link(name=frames.prefix + local, collisions=collisions, visuals=visuals,
-                inertial=inertial, line=el.sourceline, notes=tuple(notes),
-                auto_inertial=auto)
+                inertial=inertial, line=el.sourceline, auto_inertial=auto)
+    for rule, message, line, element in notes:
+        ctx.note(rule, message, line, link.name, element)
     return link, frames.in_top @ link_pose
 
 
@@ -378,8 +403,8 @@ def _collect(model_el: etree._Element, frames: _ModelFrames, ctx: _Ctx, links: l
         if el.tag == "link":
             link, pose = _link(el, frames, ctx)
             if link.name in poses:
-                ctx.robot_notes.append(f"line {el.sourceline}: second link named "
-                                       f"'{link.name}' ignored")
+                ctx.note(Rule.DUPLICATE_NAME, f"second link named '{link.name}' ignored",
+                         el.sourceline)
                 continue
             links.append(link)
             poses[link.name] = pose
@@ -393,8 +418,8 @@ def _collect(model_el: etree._Element, frames: _ModelFrames, ctx: _Ctx, links: l
             try:
                 in_top = frames.in_top @ frames.scope.in_model(name)
             except UrdfError as exc:
-                ctx.robot_notes.append(f"model '{name}': {exc.cause}; taken at its parent's "
-                                       "frame")
+                ctx.note(Rule.VALUE_UNREADABLE, f"model '{name}': {exc.cause}; taken at its "
+                         "parent's frame", el.sourceline)
                 in_top = frames.in_top
             _collect(el, _ModelFrames(scope, in_top, f"{frames.prefix}{name}::"), ctx, links,
                      poses, joints)
@@ -404,9 +429,9 @@ def _collect(model_el: etree._Element, frames: _ModelFrames, ctx: _Ctx, links: l
 
 def _note_include(el: etree._Element, ctx: _Ctx) -> None:
     uri = _child(el, "uri")
-    ctx.robot_notes.append(f"<include> of '{(uri.text or '').strip() if uri is not None else '?'}'"
-                           f" (line {el.sourceline}) not processed: fix the included file "
-                           "itself")
+    shown = (uri.text or "").strip() if uri is not None else "?"
+    ctx.note(Rule.INCLUDE_NOT_FOLLOWED, f"<include> of '{shown}' (line {el.sourceline}) not "
+             "processed: fix the included file itself", el.sourceline)
 
 
 def _joint(el: etree._Element, frames: _ModelFrames, poses: dict[str, np.ndarray],
@@ -420,7 +445,7 @@ def _joint(el: etree._Element, frames: _ModelFrames, poses: dict[str, np.ndarray
     origin = _origin(np.linalg.inv(poses[parent]) @ poses[child])
     name = prefix + (el.get("name") or "")
     motion = joint_motion(el, frames.scope, child[len(prefix):], name, version,
-                          ctx.joint_notes)
+                          ctx.robot_notes)
     return Joint(name, el.get("type") or "", parent, child, origin, el.sourceline,
                  **motion)  # type: ignore[arg-type]
 
@@ -433,10 +458,11 @@ def _version(text: str | None) -> tuple[int, ...]:
         return (1, 11)
 
 
-def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) -> Robot:
+def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
+    """The robot model of an SDFormat document (inertial values exactly as written)."""
     path = Path(path)
-    root = parse_document(_readable(data), path, ("sdf",))
-    ctx = _Ctx(path, lenient)
+    ctx = _Ctx(path)
+    root = parse_document(_readable(data), path, ("sdf",), ctx.robot_notes)
     models: list[etree._Element] = []
     for el in root:
         if not isinstance(el.tag, str):
@@ -457,11 +483,10 @@ def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) ->
         frames = _ModelFrames(scope, np.eye(4), f"{name}::" if several else "")
         _collect(model_el, frames, ctx, links, poses, joints)
     if not models:
-        ctx.robot_notes.append("no <model> in the document: nothing to compute")
+        ctx.note(Rule.READER_NOTE, "no <model> in the document: nothing to compute")
     version = _version(root.get("version"))
     built = [j for j in (_joint(el, frames, poses, ctx, version) for el, frames in joints)
              if j is not None]
     name = models[0].get("name", "") if len(models) == 1 else path.stem
     return Robot(name=name, links=tuple(links), joints=tuple(built), path=path, format="sdf",
-                 notes=tuple(dict.fromkeys(ctx.robot_notes)),
-                 joint_notes=tuple(dict.fromkeys(ctx.joint_notes)))
+                 findings=tuple(dict.fromkeys(ctx.robot_notes)))

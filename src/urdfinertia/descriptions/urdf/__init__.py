@@ -1,4 +1,4 @@
-"""URDF: strict and lenient reading into the robot model, byte-splicing of inertials.
+"""URDF: reading into the robot model (once, leniently), byte-splicing of inertials.
 
 Registers the ``urdf`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` when
 imported (the registry imports it on first use).
@@ -15,12 +15,6 @@ def _read(data, path):  # noqa: ANN001, ANN202 - the format's signature
     return robot_from_bytes(data, path)
 
 
-def _read_lenient(data, path):  # noqa: ANN001, ANN202
-    from urdfinertia.descriptions.urdf.lenient import robot_from_bytes_lenient
-
-    return robot_from_bytes_lenient(data, path)
-
-
 def _patch(data, new):  # noqa: ANN001, ANN202
     from urdfinertia.descriptions.urdf.write import patch_inertials
 
@@ -35,5 +29,5 @@ def _relocate(data, source_dir, output_dir):  # noqa: ANN001, ANN202
 
 register_format(DescriptionFormat(
     name="urdf", roots=("robot",), suffixes=(".urdf",),
-    read=_read, read_lenient=_read_lenient, patch=_patch, relocate=_relocate,
+    read=_read, patch=_patch, relocate=_relocate,
 ))

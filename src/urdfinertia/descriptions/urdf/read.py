@@ -3,20 +3,22 @@
 Entities are never resolved, no DTD is loaded and nothing is fetched from the network;
 documents that declare entities are refused outright (XXE, "billion laughs").
 
-One bad element never sinks a robot: a ``<collision>``/``<visual>`` that cannot be read
-(numbers that are not plain finite decimals, a zero or negative size, an unsupported
-shape, an unexpanded ``$(...)``) is dropped from the model and a value not needed for
-inertials (a joint origin, an existing ``<inertial>``, a negative existing mass) is
-ignored, each recorded as a :class:`~urdfinertia.descriptions.model.Problem` in
-:attr:`Robot.problems` with its line. Lenient where the reading is unambiguous (commas
-between numbers), strict where it is not (4 numbers where 3 are needed). Only a document
-that cannot be read as a whole (not XML, not a ``<robot>``, a nameless or duplicate link)
-raises :class:`UrdfError`.
+One reading, lenient: the document is read once, and every value carries its own
+validity. The ``<inertial>`` is read exactly as written, values no simulator accepts
+included (NaN, infinite, negative, absurd magnitudes; a number that cannot be read is NaN,
+with a finding), so that the judgement sees what the author wrote. One bad element never
+sinks a robot: a ``<collision>``/``<visual>`` that cannot be read (numbers that are not
+plain finite decimals, a zero or negative size, an unsupported shape, an unexpanded
+``$(...)``) is dropped from the model and a value not needed for inertials (a joint
+origin) is taken as its default, each recorded as a
+:class:`~urdfinertia.findings.Finding` in :attr:`Robot.findings` with its line. Lenient
+where the reading is unambiguous (commas between numbers), strict where it is not (4
+numbers where 3 are needed). Only a document that cannot be read as a whole (not XML, not
+a ``<robot>``, a nameless or duplicate link) raises :class:`UrdfError`.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import re
 from pathlib import Path
@@ -35,13 +37,14 @@ from urdfinertia.descriptions.model import (
     Link,
     Mesh,
     Origin,
-    Problem,
     Robot,
     Shape,
     Sphere,
 )
 from urdfinertia.descriptions.xml import parse_document
 from urdfinertia.errors import UrdfError
+from urdfinertia.findings import Finding
+from urdfinertia.rules import Rule
 
 #: Largest magnitude of any number read (SI units: 1e9 m, kg or kg m^2 describe no robot);
 #: keeps every product the maths forms far from float64 overflow (1e308).
@@ -57,7 +60,7 @@ _MAX_VALID_NUMBERS = 1 << 16
 
 
 def parse_xml(data: bytes, file: str | Path,
-              notes: list[Problem] | None = None) -> etree._Element:
+              notes: list[Finding] | None = None) -> etree._Element:
     """Parse URDF bytes into an lxml root element (:func:`xml.parse_document`)."""
     return parse_document(data, file, ("robot",), notes)
 
@@ -74,50 +77,16 @@ def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
 
 
 def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
-    notes: list[Problem] = []
+    """The robot model of URDF bytes (the module doc says how it reads)."""
+    notes: list[Finding] = []
     root = parse_xml(data, path, notes)
-    robot = robot_from_element(root, Path(path), notes)
-    signs = inertial_sign_problems(robot)
-    if not signs:
-        return robot
-    return dataclasses.replace(robot, problems=robot.problems + tuple(signs))
-
-
-#: Negative diagonal moments down to this (kg m^2) are CAD round-off of 0 (iCub has
-#: ``ixx="-5.42101e-20"``) and are accepted; ``fix`` replaces them anyway.
-NEGATIVE_MOMENT_ROUNDOFF = 1e-12
-
-
-def inertial_sign_problems(robot: Robot) -> list[Problem]:
-    """An existing ``<inertial>`` with a negative mass or diagonal moment, as problems.
-
-    Such values describe no body in any frame (a diagonal entry of a positive
-    semi-definite tensor is never negative): ``fix`` does not keep them (kind "ignored").
-    A zero mass is a common placeholder and is accepted. The linter (:mod:`lenient`)
-    reports them as findings instead.
-    """
-    out = []
-    for link in robot.links:
-        inertial = link.inertial
-        if inertial is None:
-            continue
-        def ignored(cause: str, inertial: Inertial = inertial, link: Link = link) -> Problem:
-            return Problem("negative-inertial", cause, line=inertial.line, link=link.name,
-                           element="inertial", kind="ignored")
-
-        if inertial.mass < 0:
-            out.append(ignored(f"<mass value=\"{inertial.mass:g}\"> is negative"))
-        for key in ("ixx", "iyy", "izz"):
-            value = getattr(inertial, key)
-            if value < -NEGATIVE_MOMENT_ROUNDOFF:
-                out.append(ignored(f"<inertia {key}=\"{value:g}\"> is negative"))
-    return out
+    return robot_from_element(root, Path(path), notes)
 
 
 def robot_from_element(root: etree._Element, path: Path,
-                       notes: list[Problem] | None = None) -> Robot:
-    """The robot of a parsed ``<robot>``; ``notes``: problems found before (parsing)."""
-    problems: list[Problem] = list(notes or ())
+                       notes: list[Finding] | None = None) -> Robot:
+    """The robot of a parsed ``<robot>``; ``notes``: findings made before (parsing)."""
+    problems: list[Finding] = list(notes or ())
     links: list[Link] = []
     seen: set[str] = set()
     for el in _children(root, "link"):
@@ -128,7 +97,7 @@ def robot_from_element(root: etree._Element, path: Path,
         links.append(link)
     joints = tuple(_joint(el, path, problems) for el in _children(root, "joint"))
     return Robot(name=root.get("name", ""), links=tuple(links), joints=joints, path=path,
-                 problems=tuple(problems))
+                 findings=tuple(problems))
 
 
 def _children(el: etree._Element, tag: str) -> list[etree._Element]:
@@ -140,27 +109,51 @@ _COMMAS = re.compile(r"\s*,\s*|\s+")
 
 
 class _Ctx:
-    """Where we are, for error messages; collects the problems read past."""
+    """Where we are, for error messages; collects the findings of what was read past."""
 
-    def __init__(self, path: Path, link: str | None, problems: list[Problem]) -> None:
+    def __init__(self, path: Path, link: str | None, problems: list[Finding]) -> None:
         self.path = path
         self.link = link
         self.problems = problems
 
-    def error(self, cause: str, el: etree._Element, code: str = "bad-number") -> UrdfError:
-        return UrdfError(cause, file=self.path, line=el.sourceline, link=self.link, code=code)
+    def error(self, cause: str, el: etree._Element,
+              rule: Rule = Rule.VECTOR_UNPARSEABLE) -> UrdfError:
+        return UrdfError(cause, file=self.path, line=el.sourceline, link=self.link,
+                         rule=rule)
 
-    def note(self, exc: UrdfError, element: str | None, kind: str) -> None:
-        self.problems.append(Problem(exc.code, exc.cause,
-                                     line=exc.line, link=self.link, element=element,
-                                     kind=kind))
+    def note(self, exc: UrdfError, element: str | None, rule: Rule | None = None) -> None:
+        """``exc`` as a finding on ``element`` (``rule``: instead of the error's own)."""
+        self.problems.append(Finding(rule or exc.rule, self.link, exc.cause, exc.line,
+                                     element))
+
+    def raw(self, el: etree._Element, attr: str, n: int, default: str) -> tuple[float, ...]:
+        """``n`` numbers exactly as written, for the ``<inertial>``: NaN, infinities and
+        any magnitude are kept for the judgement; text that is not ``n`` numbers is read
+        as NaN with a finding (``vector-unparseable``), so that the value is judged, not
+        lost."""
+        text = el.get(attr, default)
+        parts = [p for p in _COMMAS.split(text.strip()) if p]
+        values = [_float_or_none(p) for p in parts]
+        if len(parts) != n or any(v is None for v in values):
+            shown = text if len(text) <= 80 else text[:77] + "..."
+            self.problems.append(Finding(
+                Rule.VECTOR_UNPARSEABLE, self.link, f"<{el.tag} {attr}=\"{shown}\"> needs "
+                f"{n} number{'s' if n > 1 else ''}: read as not a number", el.sourceline,
+                "inertial"))
+            return (math.nan,) * n
+        if "," in text:
+            self.problems.append(Finding(
+                Rule.VECTOR_COMMAS, self.link, f"<{el.tag} {attr}=\"{text}\"> separates "
+                "numbers with commas (urdfdom refuses it): read as spaces", el.sourceline,
+                "inertial"))
+        return tuple(v for v in values if v is not None)
 
     def floats(self, el: etree._Element, attr: str, n: int, default: str | None = None,
                ) -> tuple[float, ...]:
         text = el.get(attr, default)
         if text is None:
             raise self.error(f"<{el.tag}> is missing attribute '{attr}'", el,
-                             "missing-attribute")
+                             Rule.MISSING_ATTRIBUTE)
         known = _VALID_NUMBERS.get((text, n))
         if known is not None:
             return known
@@ -168,7 +161,7 @@ class _Ctx:
         if "$(" in text:
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> holds an unexpanded "
                              "substitution $(...): run xacro first", el,
-                             "unexpanded-substitution")
+                             Rule.UNEXPANDED_SUBSTITUTION)
         parts = text.split()
         commas = "," in text
         if commas:  # "1.57, 1.30 1.57": one reading only, so it is read (with a note)
@@ -185,10 +178,9 @@ class _Ctx:
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (magnitude "
                              f"above {MAX_MAGNITUDE:g})", el)
         if commas:
-            self.problems.append(Problem(
-                "comma-vector", f"<{el.tag} {attr}=\"{shown}\"> separates numbers with "
-                "commas (urdfdom refuses it): read as spaces", line=el.sourceline,
-                link=self.link, kind="lenient"))
+            self.problems.append(Finding(
+                Rule.VECTOR_COMMAS, self.link, f"<{el.tag} {attr}=\"{shown}\"> separates "
+                "numbers with commas (urdfdom refuses it): read as spaces", el.sourceline))
             return values
         if len(_VALID_NUMBERS) >= _MAX_VALID_NUMBERS:
             _VALID_NUMBERS.clear()
@@ -199,8 +191,15 @@ class _Ctx:
         values = self.floats(el, attr, n)
         if not all(v > 0 for v in values):
             raise self.error(f"<{el.tag} {attr}=\"{el.get(attr)}\"> must be positive", el,
-                             "zero-size")
+                             Rule.ZERO_SIZE_PRIMITIVE)
         return values
+
+
+def _float_or_none(text: str) -> float | None:
+    try:
+        return float(text)
+    except ValueError:
+        return None
 
 
 def _origin(parent: etree._Element, ctx: _Ctx) -> Origin:
@@ -215,7 +214,7 @@ def _shape(geometry: etree._Element, ctx: _Ctx) -> Shape:
     kids = [c for c in geometry if isinstance(c.tag, str)]
     if len(kids) != 1:
         raise ctx.error("<geometry> must hold exactly one shape", geometry,
-                        "unsupported-shape")
+                        Rule.UNSUPPORTED_GEOMETRY)
     el = kids[0]
     if el.tag == "box":
         return Box(ctx.positive(el, "size", 3))  # type: ignore[arg-type]
@@ -228,23 +227,23 @@ def _shape(geometry: etree._Element, ctx: _Ctx) -> Shape:
         length = ctx.floats(el, "length", 1)[0]
         if length < 0:
             raise ctx.error(f"<capsule length=\"{el.get('length')}\"> must be >= 0", el,
-                            "zero-size")
+                            Rule.ZERO_SIZE_PRIMITIVE)
         return Capsule(radius, length)
     if el.tag == "mesh":
         filename = el.get("filename")
         if not filename:
             raise ctx.error("<mesh> is missing attribute 'filename'", el,
-                            "missing-attribute")
+                            Rule.MISSING_ATTRIBUTE)
         if "$(" in filename:
             raise ctx.error(f"<mesh filename=\"{filename}\"> holds an unexpanded "
                             "substitution $(...): run xacro first", el,
-                            "unexpanded-substitution")
+                            Rule.UNEXPANDED_SUBSTITUTION)
         scale = ctx.floats(el, "scale", 3, "1 1 1")
         if any(s == 0 for s in scale):
             raise ctx.error(f"<mesh scale=\"{el.get('scale')}\"> has a zero component", el,
-                            "zero-size")
+                            Rule.ZERO_SIZE_PRIMITIVE)
         return Mesh(filename, scale)  # type: ignore[arg-type]
-    raise ctx.error(f"unsupported geometry <{el.tag}>", el, "unsupported-shape")
+    raise ctx.error(f"unsupported geometry <{el.tag}>", el, Rule.UNSUPPORTED_GEOMETRY)
 
 
 def _geometry_refs(link_el: etree._Element, role: str, ctx: _Ctx) -> tuple[GeometryRef, ...]:
@@ -256,44 +255,51 @@ def _geometry_refs(link_el: etree._Element, role: str, ctx: _Ctx) -> tuple[Geome
         try:
             geo = _children(el, "geometry")
             if not geo:
-                raise ctx.error(f"<{role}> has no <geometry>", el, "unsupported-shape")
+                raise ctx.error(f"<{role}> has no <geometry>", el, Rule.UNSUPPORTED_GEOMETRY)
             refs.append(GeometryRef(role, index, name, _origin(el, ctx),
                                     _shape(geo[0], ctx), el.sourceline))
         except UrdfError as exc:
             label = f"{role}[{index}]" + (f" '{name}'" if name else "")
-            ctx.note(exc, label, "dropped")
+            ctx.note(exc, label)
     return tuple(refs)
 
 
 def _inertial(link_el: etree._Element, ctx: _Ctx) -> Inertial | None:
+    """The first ``<inertial>`` exactly as written (:meth:`_Ctx.raw`); a missing ``<mass>``
+    is a NaN mass with a finding (the tensor and CoM are still read)."""
     found = _children(link_el, "inertial")
     if not found:
         return None
     el = found[0]
     mass_el = _children(el, "mass")
     inertia_el = _children(el, "inertia")
-    if not mass_el:
-        raise ctx.error("<inertial> has no <mass>", el, "missing-attribute")
-    mass = ctx.floats(mass_el[0], "value", 1)[0]
+    if mass_el:
+        mass = ctx.raw(mass_el[0], "value", 1, "nan")[0]
+    else:
+        ctx.problems.append(Finding(Rule.MISSING_ATTRIBUTE, ctx.link, "<inertial> has no "
+                                    "<mass>: the mass is unknown", el.sourceline, "inertial"))
+        mass = math.nan
     if inertia_el:
-        values = [ctx.floats(inertia_el[0], k, 1, "0")[0]
+        values = [ctx.raw(inertia_el[0], k, 1, "0")[0]
                   for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
     else:
         values = [0.0] * 6
+    origin_el = _children(el, "origin")
+    if origin_el:
+        origin = Origin(ctx.raw(origin_el[0], "xyz", 3, "0 0 0"),  # type: ignore[arg-type]
+                        ctx.raw(origin_el[0], "rpy", 3, "0 0 0"))  # type: ignore[arg-type]
+    else:
+        origin = Origin()
     ixx, ixy, ixz, iyy, iyz, izz = values
-    return Inertial(_origin(el, ctx), mass, ixx, ixy, ixz, iyy, iyz, izz, line=el.sourceline)
+    return Inertial(origin, mass, ixx, ixy, ixz, iyy, iyz, izz, line=el.sourceline)
 
 
-def _link(el: etree._Element, path: Path, problems: list[Problem]) -> Link:
+def _link(el: etree._Element, path: Path, problems: list[Finding]) -> Link:
     name = el.get("name")
     if not name:
         raise UrdfError("<link> without a name", file=path, line=el.sourceline)
     ctx = _Ctx(path, name, problems)
-    try:
-        inertial = _inertial(el, ctx)
-    except UrdfError as exc:  # fix recomputes it; left as written if it cannot
-        ctx.note(exc, "inertial", "ignored")
-        inertial = None
+    inertial = _inertial(el, ctx)
     return Link(
         name=name,
         collisions=_geometry_refs(el, "collision", ctx),
@@ -303,7 +309,7 @@ def _link(el: etree._Element, path: Path, problems: list[Problem]) -> Link:
     )
 
 
-def _joint(el: etree._Element, path: Path, problems: list[Problem]) -> Joint:
+def _joint(el: etree._Element, path: Path, problems: list[Finding]) -> Joint:
     ctx = _Ctx(path, None, problems)
     parent = _children(el, "parent")
     child = _children(el, "child")
@@ -311,7 +317,7 @@ def _joint(el: etree._Element, path: Path, problems: list[Problem]) -> Joint:
     try:
         origin = _origin(el, ctx)
     except UrdfError as exc:  # not needed for inertials: a note, never a refusal
-        ctx.note(exc, f"joint '{name}' origin", "ignored")
+        ctx.note(exc, f"joint '{name}' origin", Rule.VALUE_UNREADABLE)
         origin = Origin()
     return Joint(
         name=name,

@@ -26,12 +26,6 @@ def _read(data: bytes, path: Path) -> Robot:
     return read(path).robot
 
 
-def _read_lenient(data: bytes, path: Path) -> Robot:
-    from urdfinertia.descriptions.usd.read import read
-
-    return read(path, lenient=True).robot
-
-
 def _expand(data: bytes, path: Path) -> bytes:
     from urdfinertia.descriptions.usd.read import read
     from urdfinertia.descriptions.usd.write import template
@@ -67,6 +61,6 @@ def _write_in_place(path: Path, output: bytes) -> None:
 
 register_format(DescriptionFormat(
     name="usd", roots=(), suffixes=(".usd", ".usda", ".usdc", ".usdz"),
-    read=_read, read_lenient=_read_lenient, patch=_patch, expand=_expand,
+    read=_read, patch=_patch, expand=_expand,
     relocate=_relocate, default_output=_default_output, write_in_place=_write_in_place,
 ))

@@ -28,6 +28,7 @@ from urdfinertia.descriptions.model import (
     Sphere,
 )
 from urdfinertia.descriptions.usd.frames import AXIS_ROTATION, matrix_rpy, rigid_and_scale, vec3
+from urdfinertia.rules import Rule
 
 #: Gprim types with a closed form or a mesh here; others (Plane, curves, points) are
 #: dropped with a problem.
@@ -35,11 +36,11 @@ SHAPE_TYPES = ("Cube", "Sphere", "Cylinder", "Capsule", "Cone", "Mesh")
 
 
 class ShapeError(ValueError):
-    """A prim that gives no shape: the cause, and the problem code for the report."""
+    """A prim that gives no shape: the cause, and the rule of its finding."""
 
-    def __init__(self, cause: str, code: str = "unsupported-shape") -> None:
+    def __init__(self, cause: str, rule: Rule = Rule.UNSUPPORTED_GEOMETRY) -> None:
         super().__init__(cause)
-        self.code = code
+        self.rule = rule
 
 
 def element(prim: Any, relative: np.ndarray, mpu: float) -> tuple[Origin, Shape]:
@@ -104,7 +105,7 @@ def _positive(prim: Any, name: str, default: float, *, allow_zero: bool = False)
     arr = np.asarray(value, dtype=np.float64)
     ok = np.all(np.isfinite(arr)) and (np.all(arr >= 0) if allow_zero else np.all(arr > 0))
     if not ok:
-        raise ShapeError(f"{name} {value!r} is not a positive size", code="zero-size")
+        raise ShapeError(f"{name} {value!r} is not a positive size", rule=Rule.ZERO_SIZE_PRIMITIVE)
     return arr
 
 
@@ -114,7 +115,7 @@ def triangles(prim: Any) -> tuple[np.ndarray, np.ndarray]:
     counts = np.asarray(prim.GetAttribute("faceVertexCounts").Get() or [], dtype=np.int64)
     indices = np.asarray(prim.GetAttribute("faceVertexIndices").Get() or [], dtype=np.int64)
     if points.ndim != 2 or len(points) == 0 or len(counts) == 0:
-        raise ShapeError("mesh has no points or faces", code="zero-size")
+        raise ShapeError("mesh has no points or faces", rule=Rule.ZERO_SIZE_PRIMITIVE)
     if counts.sum() != len(indices) or np.any(counts < 3):
         raise ShapeError("mesh faceVertexCounts do not match faceVertexIndices")
     if indices.min() < 0 or indices.max() >= len(points):

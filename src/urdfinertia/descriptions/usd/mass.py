@@ -20,6 +20,7 @@ import numpy as np
 
 from urdfinertia.descriptions.model import Inertial, Origin
 from urdfinertia.descriptions.usd.frames import matrix_rpy, quat_matrix, vec3
+from urdfinertia.rules import Rule
 
 #: |q| - 1 beyond which ``principalAxes`` is not a unit quaternion (float32 round-off of a
 #: normalised quaternion is ~1e-7)
@@ -135,32 +136,32 @@ def inertial(a: Authored) -> Inertial | None:
                     iyy=float(t[1, 1]), iyz=float(t[1, 2]), izz=float(t[2, 2]))
 
 
-def rule_problems(a: Authored) -> list[tuple[str, str]]:
-    """SimReady's mass rules on what is authored: (finding code, cause) pairs."""
+def rule_problems(a: Authored) -> list[tuple[Rule, str]]:
+    """SimReady's mass rules on what is authored: (rule, cause) pairs."""
     out = []
     if a.mass is not None and a.mass < 0:
-        out.append(("usd-negative-mass", f"physics:mass is {a.mass:.6g} kg"))
+        out.append((Rule.USD_NEGATIVE_MASS, f"physics:mass is {a.mass:.6g} kg"))
     if a.density is not None and a.density < 0:
-        out.append(("usd-negative-density", f"physics:density is {a.density:.6g} kg/m^3"))
+        out.append((Rule.USD_NEGATIVE_DENSITY, f"physics:density is {a.density:.6g} kg/m^3"))
     if a.density is not None and a.density > 0 and not (a.mass is not None and a.mass > 0):
-        out.append(("usd-density-without-mass",
+        out.append((Rule.USD_DENSITY_WITHOUT_MASS,
                     f"physics:density {a.density:.6g} kg/m^3 but no physics:mass: the engine "
                     "derives the mass from the collision shapes' volume"))
     if a.diagonal is not None:
         d = a.diagonal
         if np.any(d < 0) or not np.all(np.isfinite(d)):
-            out.append(("usd-diagonal-inertia-invalid",
+            out.append((Rule.USD_DIAGONAL_INERTIA_INVALID,
                         f"physics:diagonalInertia {_fmt(d)} has a negative or non-finite "
                         "moment"))
         elif d[0] + d[1] < d[2] * (1 - 1e-6) or d[0] + d[2] < d[1] * (1 - 1e-6) \
                 or d[1] + d[2] < d[0] * (1 - 1e-6):
-            out.append(("usd-diagonal-inertia-invalid",
+            out.append((Rule.USD_DIAGONAL_INERTIA_INVALID,
                         f"physics:diagonalInertia {_fmt(d)} violates the triangle "
                         "inequality (A + B >= C)"))
     if a.axes is not None and any(a.axes):
         norm = float(np.linalg.norm(a.axes))
         if not np.isfinite(norm) or abs(norm - 1.0) > QUAT_NORM_TOL:
-            out.append(("usd-principal-axes-not-unit",
+            out.append((Rule.USD_PRINCIPAL_AXES_NOT_UNIT,
                         f"physics:principalAxes {_fmt(np.array(a.axes))} has norm {norm:.6g}, "
                         "not 1"))
     if a.newton is not None and a.diagonal is not None:
@@ -171,7 +172,7 @@ def rule_problems(a: Authored) -> list[tuple[str, str]]:
             mass_api = None
         scale = max(float(np.abs(a.newton).max()), float(np.abs(a.diagonal).max()), 1e-300)
         if mass_api is not None and np.abs(mass_api - a.newton).max() > NEWTON_RTOL * scale:
-            out.append(("usd-newton-mass-disagrees",
+            out.append((Rule.USD_NEWTON_MASS_DISAGREES,
                         "newton:inertia and physics:diagonalInertia/principalAxes give "
                         "different tensors (Newton uses newton:inertia, other engines the "
                         "MassAPI)"))

@@ -6,7 +6,8 @@ payload loaded. A body's geometry is every ``UsdGeom`` gprim below it that no ne
 owns: prims with ``PhysicsCollisionAPI`` are its collisions, the others its visuals.
 Joints are the ``UsdPhysics`` joints between two bodies. A body whose MassAPI does not
 give both mass and inertia has no inertial in the model: the engine computes it from the
-collision shapes, which the link's notes state (as MJCF's implicit inertials are).
+collision shapes (:class:`~urdfinertia.descriptions.model.Implicit`, with the mass the
+MassAPI states, if any). A missing layer is a finding of the document.
 """
 
 from __future__ import annotations
@@ -18,10 +19,12 @@ from typing import Any
 
 import numpy as np
 
-from urdfinertia.descriptions.model import GeometryRef, Joint, Link, Origin, Problem, Robot
+from urdfinertia.descriptions.model import GeometryRef, Implicit, Joint, Link, Origin, Robot
 from urdfinertia.descriptions.usd import geometry, mass
 from urdfinertia.descriptions.usd.frames import matrix_rpy, quat_matrix, to_numpy, vec3
 from urdfinertia.descriptions.usd.stage import Opened, open_stage
+from urdfinertia.findings import Finding
+from urdfinertia.rules import Rule
 
 #: UsdPhysics' default density where nothing gives one (kg/m^3, water)
 DEFAULT_DENSITY = 1000.0
@@ -38,7 +41,7 @@ class _Body:
     name: str
     collisions: list[GeometryRef] = field(default_factory=list)
     visuals: list[GeometryRef] = field(default_factory=list)
-    notes: list[str] = field(default_factory=list)
+    notes: list[Finding] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -63,7 +66,7 @@ def valid_identifier(name: str) -> str:
 
 #: the last asset read and the times of every layer it used: ``fix`` reads the model and
 #: then the override template of the same asset
-_LAST: list[tuple[tuple[str, bool], tuple[tuple[str, int], ...], UsdRobot]] = []
+_LAST: list[tuple[str, tuple[tuple[str, int], ...], UsdRobot]] = []
 
 
 def _stamps(paths: tuple[str, ...]) -> tuple[tuple[str, int], ...] | None:
@@ -73,15 +76,15 @@ def _stamps(paths: tuple[str, ...]) -> tuple[tuple[str, int], ...] | None:
         return None
 
 
-def read(path: Path, *, lenient: bool = False) -> UsdRobot:
-    """The robot of a USD asset. Strict (``fix``): a sublayer, reference or payload that
-    cannot be opened refuses the asset (its bodies would be read incomplete); lenient
-    (``check``): it is a problem of the document."""
-    key = (str(path.resolve()), lenient)
+def read(path: Path) -> UsdRobot:
+    """The robot of a USD asset. A sublayer, reference or payload that cannot be opened is
+    a finding of the document (``missing-layer``, an error: ``fix`` refuses to write an
+    asset read incomplete)."""
+    key = str(path.resolve())
     for k, stamps, found in _LAST:
         if k == key and _stamps(tuple(p for p, _ in stamps)) == stamps:
             return found
-    found, used = _read(path, lenient)
+    found, used = _read(path)
     stamps_now = _stamps(used)
     _LAST.clear()
     if stamps_now is not None:
@@ -89,25 +92,18 @@ def read(path: Path, *, lenient: bool = False) -> UsdRobot:
     return found
 
 
-def _read(path: Path, lenient: bool) -> tuple[UsdRobot, tuple[str, ...]]:
+def _read(path: Path) -> tuple[UsdRobot, tuple[str, ...]]:
     opened = open_stage(path)
-    if opened.missing and not lenient:
-        from urdfinertia.errors import UrdfError
-
-        raise UrdfError(f"layer {opened.missing[0]} cannot be opened"
-                        + (f" (and {len(opened.missing) - 1} more)"
-                           if len(opened.missing) > 1 else ""), file=path)
     used = tuple(str(layer.realPath) for layer in opened.stage.GetUsedLayers()
                  if layer.realPath)
-    return _Reader(opened, path, lenient).run(), used
+    return _Reader(opened, path).run(), used
 
 
 class _Reader:
-    def __init__(self, opened: Opened, path: Path, lenient: bool) -> None:
+    def __init__(self, opened: Opened, path: Path) -> None:
         self.o = opened
         self.path = path
-        self.lenient = lenient
-        self.problems: list[Problem] = []
+        self.problems: list[Finding] = []
 
     def run(self) -> UsdRobot:
         from pxr import Usd, UsdGeom, UsdPhysics
@@ -130,15 +126,13 @@ class _Reader:
             if has_newton:
                 newton.add(link.name)
         joints = self._joints(prims, bodies)
-        notes = tuple(f"layer {m} cannot be opened: what it holds is missing from the "
-                      "stage" for m in self.o.missing)
-        for m in self.o.missing:
-            self.problems.append(Problem("missing-layer", f"layer {m} cannot be opened",
-                                         kind="ignored"))
+        missing = [Finding(Rule.MISSING_LAYER, None, f"layer {m} cannot be opened: what it "
+                           "holds is missing from the stage") for m in self.o.missing]
         default = stage.GetDefaultPrim()
+        notes = [f for b in bodies.values() for f in b.notes]
         robot = Robot(name=default.GetName() if default else self.path.stem,
                       links=tuple(links), joints=tuple(joints), path=self.path, format="usd",
-                      problems=tuple(self.problems), notes=notes)
+                      findings=tuple(missing + self.problems + notes))
         instances = []
         for prim in body_paths:
             up = prim
@@ -185,7 +179,7 @@ class _Reader:
                                              self.o.meters_per_unit)
         except geometry.ShapeError as exc:
             if collision:  # a visual that gives no volume is no loss
-                self.problems.append(Problem(exc.code, str(exc), link=body.name,
+                self.problems.append(Finding(exc.rule, body.name, str(exc),
                                              element=f"{role} {prim.GetPath()}"))
             return
         density = given_mass = None
@@ -195,40 +189,29 @@ class _Reader:
             given_mass = own.mass if own.mass else None
             approx = prim.GetAttribute("physics:approximation").Get()
             if approx and approx != "none" and prim.GetTypeName() == "Mesh":
-                body.notes.append(f"collision {name}: engines collide with its {approx} "
-                                  "approximation; its volume here is the mesh's own")
+                body.notes.append(Finding(
+                    Rule.READER_NOTE, body.name, f"engines collide with its {approx} "
+                    "approximation; its volume here is the mesh's own",
+                    element=f"collision {name}"))
         refs.append(GeometryRef(role=role, index=len(refs), name=name, origin=origin,
                                 shape=shape, density=density, mass=given_mass))
 
     def _link(self, body: _Body) -> tuple[Link, bool]:
         a = mass.authored(body.prim, self.o.meters_per_unit, self.o.kilograms_per_unit)
-        for code, cause in mass.rule_problems(a):
-            self.problems.append(Problem(code, cause, link=body.name,
-                                         element=f"MassAPI {body.prim.GetPath()}",
-                                         kind="lenient"))
+        for rule, cause in mass.rule_problems(a):
+            self.problems.append(Finding(rule, body.name, cause,
+                                         element=f"MassAPI {body.prim.GetPath()}"))
         inertial = mass.inertial(a)
-        notes = list(body.notes)
         collisions = body.collisions
+        implicit = None
         if inertial is None:
-            notes.append(self._implicit_note(a, body))
+            implicit = Implicit("colliders", a.mass if a.mass and a.mass > 0 else None,
+                                a.density if a.density and a.density > 0 else None)
             density = a.density if a.density and a.density > 0 else DEFAULT_DENSITY
             collisions = [r if r.density is not None or r.mass is not None
                           else _with_density(r, density) for r in collisions]
         return Link(name=body.name, collisions=tuple(collisions), visuals=tuple(body.visuals),
-                    inertial=inertial, notes=tuple(dict.fromkeys(notes))), a.newton_applied
-
-    @staticmethod
-    def _implicit_note(a: mass.Authored, body: _Body) -> str:
-        what = "no MassAPI" if a == mass.Authored(None, None, None, None, None, None, False) \
-            else "MassAPI without both mass and inertia"
-        if a.mass:
-            return (f"{what}: the engine takes the mass {a.mass:.6g} kg and derives CoM and "
-                    "inertia from the collision shapes")
-        density = f"{a.density:.6g}" if a.density else f"{DEFAULT_DENSITY:g} (the default)"
-        shapes = "its collision shapes" if body.collisions else \
-            "its collision shapes, and it has none (engines then use a default)"
-        return (f"{what}: the engine computes mass, CoM and inertia from {shapes} at "
-                f"density {density} kg/m^3")
+                    inertial=inertial, implicit=implicit), a.newton_applied
 
     def _joints(self, prims: list[Any], bodies: dict[Any, _Body]) -> list[Joint]:
         from pxr import UsdPhysics

@@ -91,12 +91,6 @@ def _read(data, path):  # noqa: ANN001, ANN202 - the format's signature
     return _read_with(robot_from_bytes, data, path)
 
 
-def _read_lenient(data, path):  # noqa: ANN001, ANN202
-    from urdfinertia.descriptions.urdf.lenient import robot_from_bytes_lenient
-
-    return _read_with(robot_from_bytes_lenient, data, path)
-
-
 def _expand(data, path):  # noqa: ANN001, ANN202
     return expansion(data, path).document
 
@@ -125,6 +119,6 @@ def _relocate(data, source_dir, output_dir):  # noqa: ANN001, ANN202
 
 register_format(DescriptionFormat(
     name="xacro", roots=("robot",), suffixes=(".xacro",),
-    read=_read, read_lenient=_read_lenient, patch=_patch, claims=claims, expand=_expand,
+    read=_read, patch=_patch, claims=claims, expand=_expand,
     relocate=_relocate,
 ))

@@ -33,6 +33,7 @@ from urdfinertia.mesh.read.dae import read_dae
 from urdfinertia.mesh.read.msh import msh_face_count, read_msh
 from urdfinertia.mesh.read.obj import read_obj
 from urdfinertia.mesh.read.stl import read_stl
+from urdfinertia.rules import Rule
 
 SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off", ".msh")
 _CHUNK = 1 << 20
@@ -71,7 +72,8 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
     suffix = path.suffix.lower()
     if suffix not in SUPPORTED_SUFFIXES:
         raise MeshError(f"unsupported mesh format '{suffix}' ({path}); "
-                        f"supported: {', '.join(SUPPORTED_SUFFIXES)}", code="mesh-format")
+                        f"supported: {', '.join(SUPPORTED_SUFFIXES)}",
+                        rule=Rule.GEOMETRY_UNREADABLE)
     data = _checked_bytes(path, suffix, max_faces)
     pieces = _native_pieces(path, suffix, data, max_faces) if data is not None else None
     loaded = _load_scene(path, suffix) if pieces is None else None
@@ -131,8 +133,9 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
                 stream.seek(0)
                 cause = _collada_cause(io.BytesIO(data) if data is not None else stream)
                 if cause:
-                    code = "mesh-unreadable" if cause == ZIPPED_COLLADA else "mesh-refused"
-                    raise MeshError(f"cannot read mesh {path}: {cause}", code=code)
+                    rule = (Rule.GEOMETRY_UNREADABLE if cause == ZIPPED_COLLADA
+                            else Rule.MESH_REFUSED)
+                    raise MeshError(f"cannot read mesh {path}: {cause}", rule=rule)
     except OSError as exc:
         raise MeshError(f"cannot read mesh {path}: {exc.strerror or exc}") from None
     return data
@@ -141,7 +144,7 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
 def _too_large(path: Path, size: int, limit: int, max_faces: int) -> MeshError:
     return MeshError(f"mesh {path} is {size} bytes, more than the limit {limit} bytes "
                      f"({BYTES_PER_FACE} bytes per face of --max-faces {max_faces}; "
-                     "raise it with --max-faces)", code="mesh-too-large", of_bytes=True)
+                     "raise it with --max-faces)", rule=Rule.MESH_TOO_LARGE, of_bytes=True)
 
 
 def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
@@ -186,7 +189,7 @@ _NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
 
 def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
     return MeshError(f"mesh {path} has {faces} faces, more than the limit "
-                     f"{max_faces} (raise it with --max-faces)", code="mesh-too-large",
+                     f"{max_faces} (raise it with --max-faces)", rule=Rule.MESH_TOO_LARGE,
                      of_bytes=True)
 
 

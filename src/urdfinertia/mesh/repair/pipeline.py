@@ -47,6 +47,7 @@ from urdfinertia.mesh.repair.holes import HoleCaps, cap_with_fans, close_holes
 from urdfinertia.mesh.repair.nesting import nest_signs, probe_point
 from urdfinertia.mesh.repair.stitch import stitch_seams
 from urdfinertia.mesh.repair.winding import closed_winding_numbers
+from urdfinertia.rules import Rule
 from urdfinertia.timing import Deadline, OverBudget, StageTimes
 
 #: Vertices closer than this fraction of the bounding-box diagonal are merged.
@@ -133,7 +134,7 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     used = vertices[used_vertices(len(vertices), faces)]
     size = float(np.linalg.norm(used.max(axis=0) - used.min(axis=0)))
     if not size > 0:
-        raise MeshError("mesh is a single point: it encloses no volume", code="no-volume")
+        raise MeshError("mesh is a single point: it encloses no volume", rule=Rule.MESH_NO_VOLUME)
     n_in = len(used)
     del used  # a copy of every used vertex: not kept through the repair (memory)
     vertices, faces = weld_vertices(vertices, faces, WELD_RTOL * size)
@@ -150,7 +151,7 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
         notes.append(f"removed {cancelled} pairs of coincident opposite triangles")
     if len(faces) == 0:
         raise MeshError("mesh has no non-degenerate triangles: it encloses no volume",
-                        code="no-volume")
+                        rule=Rule.MESH_NO_VOLUME)
     timer = timer if timer is not None else StageTimes()
     deadline = Deadline(mesh_seconds() if seconds is not None and seconds < 0 else seconds)
     welded = "welded" if notes else "closed as given"
@@ -327,7 +328,7 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str],
         notes.append(f"ignored {flat} pieces enclosing no volume (flat or stray triangles)")
     if not shells:
         raise MeshError("mesh encloses no volume (flat sheet, single triangle or "
-                        "degenerate surface)", code="no-volume")
+                        "degenerate surface)", rule=Rule.MESH_NO_VOLUME)
     groups, loose = _group(shells)
     if loose:
         notes.append(f"turned {loose} inverted shells that lie in no other body outward")
@@ -357,7 +358,7 @@ def drop_empty(bodies: list[RepairedBody], notes: list[str]) -> list[RepairedBod
                      "the union")
         if not kept:
             raise MeshError("mesh encloses no volume once its shells are united",
-                            code="no-volume")
+                            rule=Rule.MESH_NO_VOLUME)
     return kept
 
 

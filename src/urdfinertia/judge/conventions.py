@@ -1,0 +1,105 @@
+"""The author's conventions, inferred once per file from all links jointly.
+
+An exporter or an author who writes one link with the tensor about the joint origin, the
+products of inertia with CAD's sign or the masses in grams usually writes every link so.
+Judged link by link, only the links where the slip is blatant get corrected, and their
+siblings keep the same mistake. So each convention (:data:`CONVENTIONS`: one edit of
+:mod:`urdfinertia.inertia.slips` applied to the whole file) is scored on every link with a
+body to hold it against, and it is inferred when:
+
+- at least :data:`MIN_SUPPORT` links, and at least :data:`SUPPORT_SHARE` of the links it
+  would change, support it: the edit makes them valid and plausible, or clearly likelier
+  (by :data:`~urdfinertia.inertia.slips.MARGIN`) than as written;
+- at most :data:`CONTRADICTION_SHARE` of the supporting count contradict it: a link valid
+  and plausible as written that the edit makes clearly less likely or invalid.
+
+An inferred convention is undone on every link where the edit is feasible and does not
+lower the likelihood (links it leaves as good as written, a CoM at the origin for the
+parallel axis, are unaffected); the robot finding says how many links.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from urdfinertia.inertia.slips import MARGIN, Scored, Solid, Written, rank_edits
+from urdfinertia.judge.slips import LIMITS
+
+#: The file-wide conventions tried: the edit's name in :mod:`urdfinertia.inertia.slips`,
+#: and how the summary says it.
+CONVENTIONS = {
+    "parallel axis removed": "the tensors are written about the link origin (the joint), "
+                             "not the CoM",
+    "products negated": "the products of inertia are written with CAD's sign "
+                        "(+integral xy dm)",
+    "mass and tensor x1e-3": "masses and tensors are written in grams",
+    "mass x1e-3": "masses are written in grams",
+    "tensor x1e-6": "tensors are written in kg mm^2",
+    "tensor x1e-9": "tensors are written in g mm^2",
+}
+#: Links that must support a convention, at least.
+MIN_SUPPORT = 3
+#: Share of the links a convention changes that must support it.
+SUPPORT_SHARE = 0.4
+#: Contradicting links allowed, as a share of the supporting ones.
+CONTRADICTION_SHARE = 0.25
+#: An edit whose score moves by less than this (chi-square units) changes nothing worth
+#: counting: the link neither supports nor contradicts.
+NEUTRAL = 1.0
+
+
+@dataclass(frozen=True)
+class Convention:
+    """An inferred convention: the edit, its words, and the links it is undone on."""
+
+    edit: str
+    words: str
+    support: int
+    informative: int
+    contradict: int
+    links: tuple[str, ...]
+
+    def summary(self) -> str:
+        return (f"{self.words}: {self.support} of {self.informative} links it would change "
+                f"support it, {self.contradict} contradict it; undone on "
+                f"{len(self.links)} link(s)")
+
+
+def _scores(w: Written, solid: Solid) -> tuple[Scored, dict[str, Scored]]:
+    ranked = rank_edits(w, solid, LIMITS)
+    none = next(s for s in ranked if s.edit.slip == "none")
+    return none, {s.edit.name: s for s in ranked if s.edit.name in CONVENTIONS}
+
+
+def infer_conventions(written: Mapping[str, Written], solids: Mapping[str, Solid],
+                      ) -> list[Convention]:
+    """The conventions the links support (module doc); ``written`` and ``solids`` by link
+    name (links without a body to hold them against are left out)."""
+    scored = {name: _scores(w, solids[name]) for name, w in written.items()
+              if name in solids}
+    found = []
+    for edit, words in CONVENTIONS.items():
+        support = contradict = informative = 0
+        apply: list[str] = []
+        for name, (none, edits) in scored.items():
+            s = edits.get(edit)
+            if s is None:
+                continue  # the edit does not change this link's values
+            delta = s.score - none.score
+            if abs(delta) < NEUTRAL and s.feasible == none.feasible:
+                continue
+            informative += 1
+            if s.feasible and (not none.feasible or delta <= -MARGIN):
+                support += 1
+            elif none.feasible and (not s.feasible or delta >= MARGIN):
+                contradict += 1
+            if s.feasible and (not none.feasible or delta <= 0):
+                apply.append(name)
+        if support >= MIN_SUPPORT and support >= SUPPORT_SHARE * informative \
+                and contradict <= CONTRADICTION_SHARE * support:
+            found.append(Convention(edit, words, support, informative, contradict,
+                                    tuple(apply)))
+    # best supported first: a link two conventions would edit takes the first (one edit)
+    found.sort(key=lambda c: (-c.support, c.contradict, c.edit))
+    return found
