@@ -44,16 +44,16 @@ def test_whole_collection(erd_dir, tmp_path):
         except UrdfInertiaError as exc:  # pragma: no cover - shows the failing file
             pytest.fail(f"{path}: {exc}")
         for r in result.left:
-            if not r.problems:
+            if not r.dropped:
                 # a placeholder with nothing to derive it from: left, never silently (exit
                 # 1); an invalid one would have had the minimal repair instead
                 assert "placeholder" in r.why, r.reason
                 assert RawInertial.from_inertial(r.previous).diagnosis().valid, r.name
                 continue
-            assert all(p.code == "mesh-missing" for p in r.problems), r.reason
-            for p in r.problems:  # really not shipped
+            assert all(f.code == "mesh-unresolved" for f in r.dropped), r.reason
+            for f in r.dropped:  # really not shipped
                 link = result.robot.link(r.name)
-                (ref,) = [g for g in (*link.collisions, *link.visuals) if g.line == p.line][:1]
+                (ref,) = [g for g in (*link.collisions, *link.visuals) if g.line == f.line][:1]
                 with pytest.raises(MeshError, match="not found"):
                     resolve_mesh_path(ref.shape.filename, path.parent, meshes.package_dirs)
         if result.left:
@@ -80,10 +80,9 @@ def test_whole_collection(erd_dir, tmp_path):
 
 # --- the default policy on real robots (issue 14) -------------------------------------
 def test_default_fix_keeps_clean_robots_and_total_masses(erd_dir):
-    from urdfinertia.plan.apply import mass_change
-
     from urdfinertia.analysis.check import check_robot
     from urdfinertia.descriptions.formats import read_description
+    from urdfinertia.plan.total_mass import mass_change
 
     meshes = MeshLibrary({"example-robot-data": erd_dir})
     clean = 0
@@ -98,7 +97,7 @@ def test_default_fix_keeps_clean_robots_and_total_masses(erd_dir):
             assert result.output == path.read_bytes(), path
             clean += 1
         if path.stem in ("anymal", "tiago_pro", "a1", "laikago"):
-            change = mass_change(result)
+            change = mass_change(result.links)
             assert change.after == pytest.approx(change.before, rel=1e-12), (path, change)
     assert clean >= 10
 

@@ -131,13 +131,9 @@ def test_report_and_explain_show_what_fix_writes(robot):
 
 #: Robots whose inertials live in ``<include>``d files, which ``fix`` does not patch yet
 #: (only the main document is written): its output still holds what it recomputed.
-INCLUDED_INERTIALS = {"envs/assets/fetch/reach.xml"}
 
 
 def test_check_on_fix_output_is_clean(robot, request):
-    if request.node.callspec.id in INCLUDED_INERTIALS:
-        request.applymarker(pytest.mark.xfail(
-            strict=True, reason="fix does not patch inertials in <include>d MJCF files"))
     path, _, _, fixed = robot
     # the output read where the input lies, so its references resolve as the input's do
     out = robot_from_bytes(fixed.output, path)

@@ -78,7 +78,8 @@ def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
 def mesh_needs(source: Path, options: FixOptions) -> tuple[list[Path], list[Path]]:
     """``(solids, points)``: the resolved mesh files whose solids the geometry policy
     integrates for ``source``, and those whose hull points the geometry checks read
-    (every mesh of a link that has an inertial, collision and visual), best effort.
+    (every mesh of a link that has an inertial, collision and visual; and every mesh whose
+    solids are integrated: a candidate's box and kind come from its points), best effort.
 
     Problems are ignored here: the file's own task reports them in context.
     """
@@ -110,6 +111,7 @@ def mesh_needs(source: Path, options: FixOptions) -> tuple[list[Path], list[Path
             # every link asked for is derived: --geometry auto weighs all its geometries
             refs = refs + link.collisions + link.visuals
         add(refs, solids)
+        add(refs, points)
         if link.inertial is not None:
             add(link.collisions + link.visuals, points)
     return list(solids), list(points)

@@ -108,8 +108,8 @@ class LinkEvidence:
                 resolve_mesh_path(ref.shape.filename, self.robot.urdf_dir,
                                   self.options.package_dirs)
             except UrdfInertiaError as exc:
-                out.append(Finding(Rule.MESH_UNRESOLVED, self.name,
-                                   f"{ref.label}: {exc.cause}", ref.line, ref.label))
+                out.append(Finding(Rule.MESH_UNRESOLVED, self.name, exc.cause, ref.line,
+                                   ref.label))
         return tuple(out)
 
     @cached_property

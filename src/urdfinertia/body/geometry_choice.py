@@ -152,6 +152,9 @@ def evaluate(link: Link, role: str, refs: tuple[GeometryRef, ...], meshes: MeshS
     mesh files' points: the box diagonal (None) and hull detection (a mesh is "mesh").
     """
     found: list[Finding] = []
+    # the points first (the box, the hull), then the solids: a mesh read for its points is
+    # kept for its solids (the mesh library's order), never read twice
+    diagonal = _diagonal(refs, meshes, urdf_dir) if detail else None
     parts = usable_parts(link, refs, meshes, urdf_dir, found)
     signed = [(-p.volume if p.cavity else p.volume) for p in parts]
     volume = float(sum(signed))
@@ -165,7 +168,7 @@ def evaluate(link: Link, role: str, refs: tuple[GeometryRef, ...], meshes: MeshS
             else "mesh"
         return Candidate(role, refs, tuple(parts), tuple(found), kind, volume, centroid, None)
     return Candidate(role, refs, tuple(parts), tuple(found), _kind(refs, parts, meshes,
-                     urdf_dir), volume, centroid, _diagonal(refs, meshes, urdf_dir))
+                     urdf_dir), volume, centroid, diagonal)
 
 
 def _kind(refs: tuple[GeometryRef, ...], parts: Sequence[Part], meshes: MeshSource,

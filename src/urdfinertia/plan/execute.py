@@ -34,7 +34,9 @@ def execute(ev: LinkEvidence, j: LinkJudgement, plan: LinkPlan) -> LinkResult:
     """The verdict of one link under ``plan`` (module doc)."""
     link = ev.link
     written = VALUES if link.inertial is not None else ()
-    findings = j.findings + plan.notes
+    said = {(f.rule, f.link, f.element) for f in j.findings if f.element}
+    findings = j.findings + tuple(f for f in plan.notes
+                                  if not f.element or (f.rule, f.link, f.element) not in said)
     stated = link.implicit.mass if link.implicit is not None else None
     base = LinkResult(ev.name, Status.KEPT, plan.action, findings, plan.grounds, plan.because,
                       previous=link.inertial, kept=written, stated_mass=stated)

@@ -241,9 +241,12 @@ def _default(ev: LinkEvidence, j: LinkJudgement, robot: RobotEvidence) -> LinkPl
             return LinkPlan(name, Action.LEAVE, triggers, Rule.NEGLIGIBLE_BODY)
         return LinkPlan(name, Action.LEAVE, triggers, because, unresolved=True)
     plan = _recompute(ev, j, triggers, keep_mass=keep_mass, keep_com=keep_com)
-    if plan.action != Action.LEAVE or not invalid:
+    if plan.action != Action.LEAVE or not rules & INVALID:
+        # a missing inertial whose geometry cannot be read is left, said so (a made-up
+        # body would hide that the mesh is missing); invalid values get the minimal repair
         return plan
-    return _repair(ev, j, triggers, plan.because)
+    repaired = _repair(ev, j, triggers, plan.because)
+    return replace(repaired, notes=plan.notes + repaired.notes)
 
 
 def _negligible(ev: LinkEvidence, robot: RobotEvidence) -> bool:
@@ -268,9 +271,16 @@ def _recompute(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...], *,
     com = raw.com if keep_com and raw is not None and raw.com_ok and kept_mass else None
     if not candidates:
         dropped = _dropped(ev)
-        because = dropped[0].rule if dropped else Rule.NO_GEOMETRY
-        return LinkPlan(ev.name, Action.LEAVE, grounds, because,
-                        unresolved=bool(dropped) or bool(grounds), notes=tuple(dropped))
+        notes = tuple(dropped)
+        if dropped:
+            first = dropped[0]
+            more = f" and {len(dropped) - 1} more" if len(dropped) > 1 else ""
+            cause = first.message.removeprefix("dropped: ")
+            notes += (Finding(Rule.NO_GEOMETRY, ev.name, f"no usable geometry left "
+                              f"({first.element} line {first.line}: {cause}{more})",
+                              ev.link.line),)
+        return LinkPlan(ev.name, Action.LEAVE, grounds, Rule.NO_GEOMETRY,
+                        unresolved=bool(dropped) or bool(grounds), notes=notes)
     best, chosen = choose(candidates, kept_mass, com)
     lo, hi = PLAUSIBLE_DENSITY
     if plausible_only and chosen.density is not None and not lo <= chosen.density <= hi:

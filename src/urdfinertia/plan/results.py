@@ -198,7 +198,7 @@ class LinkResult:
         phrase = (_BECAUSE_KEPT.get(self.because) if self.status == Status.KEPT
                   else None) or _BECAUSE.get(self.because)
         if phrase is not None and (self.status != Status.LEFT
-                                   or self.because not in UNREAD):
+                                   or self.because not in UNREAD | {Rule.NO_GEOMETRY}):
             return phrase
         for f in reversed(self.findings):  # the plan's own note, made last, first
             if f.rule == self.because:

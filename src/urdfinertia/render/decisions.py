@@ -126,14 +126,26 @@ def problem_lines(result: FixResult) -> list[str]:
     read leniently, an include not followed), with its rule's id: what ``fix`` prints on
     stderr."""
     out = []
+    seen: set[tuple[str | None, str | None]] = set()
     for f in result.findings:
         if f.severity == Severity.INFO or f.rule in (Rule.TOTAL_MASS_CHANGED,
                                                      Rule.CONVENTION_INFERRED):
             continue
         if f.rule.scope == Scope.JOINT:
             continue  # statics' concern: check says it
-        if f.link is None or f.rule.scope == Scope.ELEMENT:
-            out.append(f"{f.describe(result.path)} ({f.rule.id} {f.code})")
+        if f.link is not None and f.rule.scope != Scope.ELEMENT:
+            continue  # the link's verdict says it
+        key = (f.link, f.element)
+        if f.element and key in seen:
+            continue  # one line per element: its first cause
+        seen.add(key)
+        done = ("read leniently" if f.rule in (Rule.VECTOR_COMMAS, Rule.XML_READ_LENIENTLY)
+                else "value ignored" if f.rule == Rule.VALUE_UNREADABLE
+                else "value not read" if f.element == "inertial"
+                else "element dropped" if f.rule.scope == Scope.ELEMENT and f.link
+                else None)
+        said = f"{done}; " if done else ""
+        out.append(f"{f.describe(result.path)} ({said}{f.rule.id} {f.code})")
     return out
 
 
