@@ -22,6 +22,7 @@ from urdfinertia.analysis.check import Finding, check_description
 from urdfinertia.analysis.compare import LinkComparison, compare_with_geometry, summary
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.formats import read_description
+from urdfinertia.errors import require_extra
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.link.fix import fix_robot
 from urdfinertia.link.options import FixOptions
@@ -48,6 +49,16 @@ BOX_LIMIT = 1.0
 #: plotly config: no logo link, no fetches (topojson is only for geo maps, never needed).
 PLOTLY_CONFIG = {"displaylogo": False, "responsive": True, "topojsonURL": "",
                  "toImageButtonOptions": {"format": "png", "scale": 2}}
+
+
+#: What drawing the page needs beyond the core install: the ``report`` extra.
+REPORT_MODULES = ("plotly",)
+
+
+def require_report_extra() -> None:
+    """Raise :class:`~urdfinertia.errors.MissingExtraError` (an ImportError) naming
+    ``pip install 'urdfinertia[report]'`` when plotly is not installed."""
+    require_extra(REPORT_MODULES, "the report")
 
 
 @dataclass(frozen=True, eq=False)
@@ -94,6 +105,7 @@ def collect(path: str | Path, options: FixOptions, *, view: str = "visual",
     (default :func:`~urdfinertia.cache.library.mesh_library`) may hold results computed
     by worker processes.
     """
+    require_report_extra()  # before the work, not after it
     robot, data = read_description(path, lenient=True)
     if meshes is None:
         meshes = mesh_library(options.package_dirs, options.max_faces)
@@ -488,6 +500,7 @@ def _plots_script(figures: dict) -> str:
 
 def render_html(data: ReportData) -> str:
     """The whole page as one string (plotly.js inlined once, a few MB)."""
+    require_report_extra()
     name = html.escape(data.fix.robot.name or Path(data.fix.path).stem)
     figures = {"view3d": scene_figure(data)}
     if data.error_series["links"]:
