@@ -36,6 +36,7 @@ from urdfinertia.cli.options import (
     add_geometry_source_arguments,
     engine_request,
     positive_float,
+    user_path,
 )
 from urdfinertia.descriptions.formats import is_description, read_bytes, robot_from_bytes
 from urdfinertia.errors import UrdfInertiaError
@@ -103,7 +104,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    metavar="FRACTION",
                    help="a written total within this fraction of its target is no finding "
                         "(default: %(default)s)")
-    p.add_argument("--spec", type=Path, metavar="TOML",
+    p.add_argument("--spec", type=user_path, metavar="TOML",
                    help="decomposition spec: its parts plan the links as fix --spec does; "
                         "its total_mass and [subtree.NAME] mass are held against the "
                         "written masses (UI703)")
