@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The GitHub Action's check step (action.yml runs exactly this; tests/ci runs it too).
 # Inputs come as environment variables, as the action passes them:
-#   INPUT_PATHS     files, folders (searched for *.urdf *.xacro *.sdf *.xml) or globs;
+#   INPUT_PATHS     files, folders (searched for *.urdf *.xacro *.sdf *.xml *.usd *.usda
+#                   *.usdc *.usdz) or globs;
 #                   whitespace-separated (default: .)
 #   INPUT_OPTIONS   more `urdf-inertia check` options, e.g. "--strict --engines mujoco"
 #   INPUT_BASELINE  a baseline file: findings recorded there do not fail the run
@@ -23,7 +24,8 @@ for pattern in $paths; do
     if [ -d "$item" ]; then
       while IFS= read -r -d '' f; do files+=("$f"); done < <(
         find "$item" -type d \( -name .git -o -name node_modules \) -prune -o -type f \
-          \( -name '*.urdf' -o -name '*.xacro' -o -name '*.sdf' -o -name '*.xml' \) \
+          \( -name '*.urdf' -o -name '*.xacro' -o -name '*.sdf' -o -name '*.xml' \
+             -o -name '*.usd' -o -name '*.usda' -o -name '*.usdc' -o -name '*.usdz' \) \
           -print0 | sort -z)
     else
       files+=("$item")
@@ -38,8 +40,9 @@ fi
 baseline=()
 if [ -n "${INPUT_BASELINE:-}" ]; then baseline=(--baseline "$INPUT_BASELINE"); fi
 
-# files found in folders include every *.xml: only those a registered format takes are read
-"${command[@]}" check "${files[@]}" --skip-unknown-formats --format github \
+# files found in folders include every *.xml: only those a registered format takes are read;
+# a xacro macro file is checked through the robots that include it (--includers)
+"${command[@]}" check "${files[@]}" --skip-unknown-formats --includers --format github \
   --sarif "$sarif" "${baseline[@]}" "${options[@]}"
 code=$?
 if [ -n "${GITHUB_OUTPUT:-}" ]; then

@@ -29,8 +29,12 @@ CHROMEDRIVER = "/usr/bin/chromedriver"
 CHROMIUM_FLAGS = (
     "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
-    "--enable-unsafe-swiftshader", "--window-size=1400,1100", "--hide-scrollbars",
+    "--enable-unsafe-swiftshader", "--hide-scrollbars",
 )
+#: Window size of a page load (CSS pixels) unless the caller asks for another width.
+WINDOW = (1400, 1100)
+#: Tallest full-page screenshot (pixels): a long table beyond it is cut.
+MAX_SHOT_HEIGHT = 12000
 #: URL schemes that are not network requests.
 LOCAL_SCHEMES = ("data:", "blob:", "about:")
 
@@ -47,6 +51,7 @@ class PageLoad:
     requests : URLs the page requested besides itself (none expected).
     rendered : how many plots finished drawing, and how many the page has.
     overflow : CSS pixels the page is wider than the window (0: no sideways scrolling).
+    probed : the value of the caller's ``probe`` script, run once every plot was drawn.
     """
 
     seconds: float
@@ -57,6 +62,8 @@ class PageLoad:
     rendered: tuple[int, int]
     webgl: bool
     overflow: int = 0
+    #: what ``probe`` (a script run once every plot is drawn) returned
+    probed: object = None
 
 
 def install_chromium() -> bool:
@@ -71,15 +78,19 @@ def install_chromium() -> bool:
 
 
 def load_in_chromium(html: Path, screenshot: Path | None = None,
-                     timeout: float = 60.0) -> PageLoad:
-    """Open ``html`` (a local file) in a fresh headless Chromium and watch it load."""
+                     timeout: float = 60.0, width: int = WINDOW[0],
+                     full_page: bool = False, probe: str | None = None) -> PageLoad:
+    """Open ``html`` (a local file) in a fresh headless Chromium ``width`` CSS pixels wide
+    and watch it load; ``screenshot``: a PNG of the window, or with ``full_page`` of the
+    whole page (the window stretched to its height, at most ``MAX_SHOT_HEIGHT``)."""
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
 
     profile = tempfile.mkdtemp(prefix="urdfinertia-chromium-")
     options = webdriver.ChromeOptions()
     options.binary_location = CHROMIUM
-    for flag in (*CHROMIUM_FLAGS, f"--user-data-dir={profile}"):
+    for flag in (*CHROMIUM_FLAGS, f"--window-size={width},{WINDOW[1]}",
+                 f"--user-data-dir={profile}"):
         options.add_argument(flag)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL", "performance": "ALL"})
     driver = webdriver.Chrome(options=options, service=Service(CHROMEDRIVER))
@@ -102,7 +113,13 @@ def load_in_chromium(html: Path, screenshot: Path | None = None,
             "return !!document.createElement('canvas').getContext('webgl')"))
         overflow = int(driver.execute_script(
             "return document.documentElement.scrollWidth - window.innerWidth"))
+        probed = driver.execute_script(probe) if probe is not None else None
         if screenshot is not None:
+            if full_page:
+                height = int(driver.execute_script(
+                    "return document.documentElement.scrollHeight"))
+                driver.set_window_size(width, min(height + 150, MAX_SHOT_HEIGHT))
+                time.sleep(0.7)  # the plots redraw at the new size
             time.sleep(0.3)  # let the WebGL canvas present its first frame
             driver.save_screenshot(str(screenshot))
         console = driver.get_log("browser")
@@ -124,7 +141,7 @@ def load_in_chromium(html: Path, screenshot: Path | None = None,
     errors = tuple(e["message"] for e in console if e["level"] == "SEVERE")
     other = tuple(f"{e['level']}: {e['message']}" for e in console if e["level"] != "SEVERE")
     return PageLoad(seconds, first_paint, errors, other, tuple(requests), (done, wanted), webgl,
-                    overflow)
+                    overflow, probed)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -16,6 +16,12 @@ CPU time, not wall time: the machine may be shared. The repair's time budget per
 (``URDFINERTIA_MESH_SECONDS``) is as the environment sets it for both sides; a mesh that
 runs over it in one revision only is reported as a difference.
 
+``--winding`` compares this checkout with itself instead: generalized winding numbers
+from libigl (the ``fast`` extra) on one side, from the numpy fallback on the other
+(``URDFINERTIA_NO_LIBIGL=1``), so it says what installing without the extra changes.
+
+    python scripts/compare_solids.py --winding [--robots DIR] [--limit N]
+
 Exit code 0 when every mesh gives the same bytes and strings, 1 otherwise.
 """
 
@@ -118,9 +124,10 @@ def referenced_meshes(robots: Path) -> list[Path]:
     return sorted(found)
 
 
-def measure(src: Path, files: list[Path], max_faces: int) -> dict:
-    """Run the worker on ``files`` with the package under ``src``."""
-    env = dict(os.environ, PYTHONPATH=str(src))
+def measure(src: Path, files: list[Path], max_faces: int,
+            env_extra: dict[str, str] | None = None) -> dict:
+    """Run the worker on ``files`` with the package under ``src`` (and ``env_extra`` set)."""
+    env = dict(os.environ, PYTHONPATH=str(src), **(env_extra or {}))
     proc = subprocess.run([sys.executable, "-c", _WORKER, str(max_faces)], env=env,
                           text=True, input="".join(f"{p}\n" for p in files),
                           capture_output=True)
@@ -138,7 +145,10 @@ def differences(a: dict, b: dict) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("old", metavar="REF")
+    parser.add_argument("old", metavar="REF", nargs="?")
+    parser.add_argument("--winding", action="store_true",
+                        help="this checkout with libigl against itself with the numpy "
+                             "winding numbers (no REF)")
     parser.add_argument("--robots", type=Path, help="folder of descriptions "
                                                     "(default: example-robot-data's robots)")
     parser.add_argument("--new", metavar="REF", help="compare with revision REF, "
@@ -154,12 +164,21 @@ def main(argv: list[str] | None = None) -> int:
     files = referenced_meshes(args.robots)[:args.limit]
     print(f"{len(files)} mesh files referenced under {args.robots.name}/ (collision and "
           "visual)", flush=True)
-    from support.revisions import revision_sources
+    if args.winding:
+        from urdfinertia.mesh.repair.winding import NO_COMPILED
 
-    with revision_sources(ROOT, {"old": args.old, "new": args.new}) as trees:
-        old = measure(trees["old"], files, args.max_faces)
-        new = measure(trees["new"], files, args.max_faces)
-    names = {"old": args.old, "new": args.new or "this checkout"}
+        old = measure(ROOT / "src", files, args.max_faces)
+        new = measure(ROOT / "src", files, args.max_faces, {NO_COMPILED: "1"})
+        names = {"old": "libigl", "new": "numpy"}
+    else:
+        if args.old is None:
+            parser.error("REF is required (or --winding)")
+        from support.revisions import revision_sources
+
+        with revision_sources(ROOT, {"old": args.old, "new": args.new}) as trees:
+            old = measure(trees["old"], files, args.max_faces)
+            new = measure(trees["new"], files, args.max_faces)
+        names = {"old": args.old, "new": args.new or "this checkout"}
     peaks = {"old": old.pop("__peak_mb__"), "new": new.pop("__peak_mb__")}
     differing = 0
     for path in map(str, files):

@@ -40,11 +40,16 @@ def chromium() -> None:
         pytest.skip("chromium/chromedriver missing and scripts/install_chromium.sh failed")
 
 
-def color_pixels(png: Path, hex_color: str, tol: int = 40) -> int:
-    """Pixels within ``tol`` (per channel, 0-255) of ``hex_color``."""
+def color_pixels(png: Path, hex_color: str, tol: int = 40,
+                 box: tuple[int, int, int, int] | None = None) -> int:
+    """Pixels within ``tol`` (per channel, 0-255) of ``hex_color``, in ``box`` (left, top,
+    width, height in pixels) when given."""
     import matplotlib.image
 
     rgb = (matplotlib.image.imread(str(png))[..., :3] * 255).astype(int)
+    if box is not None:
+        left, top, width, height = box
+        rgb = rgb[top:top + height, left:left + width]
     target = np.array([int(hex_color[i:i + 2], 16) for i in (1, 3, 5)])
     return int(np.all(np.abs(rgb - target) <= tol, axis=-1).sum())
 
@@ -55,25 +60,48 @@ def render(tmp_path: Path, urdf: Path, *extra: str) -> Path:
     return out
 
 
-def check_page(page: Path, shot: Path):
-    load = bench.load_in_chromium(page, shot)
-    print(f"{page.name}: {page.stat().st_size / 1e6:.2f} MB, drawn in {load.seconds:.2f} s, "
-          f"screenshot {shot}")
-    assert load.rendered[1] == 2 and load.rendered[0] == load.rendered[1], load
+#: Run in the page once every plot is drawn: where the 3-D view is, and whether any two
+#: titles of the page (headings, the panels' titles) overlap.
+PROBE = """
+var r = document.getElementById('view3d').getBoundingClientRect();
+var titles = Array.from(document.querySelectorAll('h1, h2, h3')).map(function (e) {
+  var b = e.getBoundingClientRect(); return [b.left, b.top, b.right, b.bottom]; });
+var overlaps = 0;
+for (var i = 0; i < titles.length; i++) for (var j = i + 1; j < titles.length; j++) {
+  var a = titles[i], b = titles[j];
+  if (a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]) overlaps++; }
+return {view: [r.left, r.top + window.scrollY, r.width, r.height], overlaps: overlaps,
+        labels: getComputedStyle(document.querySelector('#links td'), '::before').content};
+"""
+
+
+def check_page(page: Path, shot: Path, width: int = 1400,
+               boxes: tuple[str, ...] = ("existing", "recomputed")):
+    load = bench.load_in_chromium(page, shot, width=width, full_page=True, probe=PROBE)
+    print(f"{page.name} at {width} px: {page.stat().st_size / 1e6:.2f} MB, drawn in "
+          f"{load.seconds:.2f} s, screenshot {shot}")
+    assert load.rendered[1] >= 2 and load.rendered[0] == load.rendered[1], load
     assert load.console_errors == ()
     assert load.requests == ()
     assert load.webgl
-    assert load.overflow <= 0, "the page scrolls sideways in a 1400 px window"
-    # The 3-D view really shows both kinds of box (their edge colours), not a blank canvas.
-    for source in ("existing", "recomputed"):
-        assert color_pixels(shot, COLORS[source]) > 200, source
+    assert load.overflow <= 0, f"the page scrolls sideways in a {width} px window"
+    assert load.probed["overlaps"] == 0, "titles overlap"
+    # The 3-D view really shows both kinds of box (their edge colours), not a blank canvas:
+    # counted inside the view, where the legend's two swatches make about 100 pixels; the
+    # new boxes' edges are seen through the translucent faces of the old ones (tol 60)
+    view = tuple(int(x) for x in load.probed["view"])
+    for source in boxes:
+        assert color_pixels(shot, COLORS[source], tol=60, box=view) > 300, source
     return load
 
 
-def test_nm7mar_report_in_chromium(chromium, tmp_path, robots_dir):
+@pytest.mark.parametrize("width", [1400, 800])
+def test_nm7mar_report_in_chromium(chromium, tmp_path, robots_dir, width):
     page = render(tmp_path, robots_dir / "nm7mar.urdf",
                   "--spec", str(robots_dir / "nm7mar.inertia.toml"))
-    check_page(page, tmp_path / "nm7mar.png")
+    load = check_page(page, tmp_path / f"nm7mar-{width}.png", width)
+    # narrower than the table needs: each row is a card whose cells name their column
+    assert (load.probed["labels"] == "none") == (width >= 1400), load.probed
 
 
 def test_sixty_links_fit_the_window(chromium, tmp_path, erd_dir):
@@ -82,12 +110,23 @@ def test_sixty_links_fit_the_window(chromium, tmp_path, erd_dir):
     urdf = erd_dir / "robots" / "talos_data" / "robots" / "talos_full_v2.urdf"
     page = render(tmp_path, urdf)
     assert page.stat().st_size < 5e6
-    check_page(page, tmp_path / "talos.png")
+    # fix changes three small links (an IMU, two tool frames): the boxes seen are kept ones
+    check_page(page, tmp_path / "talos.png", boxes=("kept",))
 
 
-def test_example_robot_data_report_in_chromium(chromium, tmp_path, erd_dir):
+def test_a_robot_fix_mostly_keeps_is_not_painted_as_errors(chromium, tmp_path, erd_dir):
+    """UR5: fix changes its three wrist links and keeps the rest. Their bars are in the
+    colour of a kept link, the wrists' in the colour of a changed one, and the view marks
+    the wrists (tinted geometry)."""
     urdf = erd_dir / "robots" / "ur_description" / "urdf" / "ur5_robot.urdf"
-    check_page(render(tmp_path, urdf), tmp_path / "ur5.png")
+    for width in (1400, 800):
+        shot = tmp_path / f"ur5-{width}.png"
+        load = check_page(render(tmp_path, urdf), shot, width, boxes=("existing", "kept"))
+        view = tuple(int(x) for x in load.probed["view"])
+        from urdfinertia.render.report import COLORS as C
+
+        assert color_pixels(shot, C["kept"], tol=20) > 500  # kept bars and boxes
+        assert color_pixels(shot, C["changed geometry"], tol=30, box=view) > 100
 
 
 def test_the_watcher_sees_console_errors_and_requests(chromium, tmp_path):

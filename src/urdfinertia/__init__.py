@@ -35,7 +35,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 _API = {
     "MassProperties": "urdfinertia.inertia.massprops",

@@ -77,8 +77,12 @@ def make_options(**options: Any) -> FixOptions:
     if isinstance(spec, str | Path):
         options["spec"] = load_spec(spec)
     dirs = options.get("package_dirs")
-    if isinstance(dirs, Mapping):
-        options["package_dirs"] = {str(k): Path(v) for k, v in dirs.items()}
+    if isinstance(dirs, Mapping):  # relative folders are the working directory's
+        options["package_dirs"] = {str(k): Path(v).expanduser().absolute()
+                                   for k, v in dirs.items()}
+    elif dirs is not None:
+        raise TypeError(f"package_dirs must be a mapping of package names to folders, "
+                        f"e.g. {{'my_robot': 'src/my_robot'}}, not {type(dirs).__name__}")
     links = options.get("links")
     if links:
         options["links"] = tuple(links)

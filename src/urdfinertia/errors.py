@@ -112,3 +112,53 @@ class OutputError(UrdfInertiaError):
     """An output cannot be written."""
 
     default_rule = Rule.OUTPUT_FAILED
+
+
+class MissingExtraError(UrdfInertiaError, ImportError):
+    """A feature needs an optional dependency that is not installed.
+
+    Also an :class:`ImportError`, so ``except ImportError`` catches it. The message is one
+    line with the install command: "the report needs the report extra: pip install
+    'urdfinertia[report]'".
+
+    Attributes
+    ----------
+    extra : str
+        The extra that installs it (``pip install 'urdfinertia[EXTRA]'``).
+    name : str
+        The module that could not be imported (as :class:`ImportError` names it).
+    """
+
+    default_rule = Rule.MISSING_EXTRA
+
+    def __init__(self, what: str, extra: str, module: str) -> None:
+        super().__init__(f"{what} needs the {extra} extra: "
+                         f"pip install 'urdfinertia[{extra}]'")
+        self.extra = extra
+        self.name = module
+
+    def __str__(self) -> str:
+        return self.cause
+
+
+#: Optional modules and the extra that installs each (pyproject.toml's
+#: ``[project.optional-dependencies]``).
+EXTRA_OF = {"plotly": "report", "matplotlib": "report", "fast_simplification": "report",
+            "igl": "fast"}
+
+
+def require_extra(modules: tuple[str, ...], what: str) -> None:
+    """Raise :class:`MissingExtraError` unless every module in ``modules`` is importable.
+
+    Only looks the modules up (``importlib.util.find_spec``), so a present extra costs no
+    import here; ``what`` names the feature ("the report", "compare --plot").
+    """
+    import importlib.util
+
+    for module in modules:
+        try:
+            found = importlib.util.find_spec(module) is not None
+        except (ImportError, ValueError):
+            found = False
+        if not found:
+            raise MissingExtraError(what, EXTRA_OF.get(module, module), module)

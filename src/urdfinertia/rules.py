@@ -165,6 +165,7 @@ class Rule(StrEnum):
     SPEC_INVALID = "spec-invalid"
     JOINT_UNREADABLE = "joint-unreadable"
     OUTPUT_FAILED = "output-failed"
+    MISSING_EXTRA = "missing-extra"
     # UI6xx: what the author meant
     SLIP_PROPOSED = "slip-proposed"
     INERTIAL_COPIED = "inertial-copied"
@@ -684,6 +685,13 @@ _TABLE: dict[Rule, RuleInfo] = {
         "UI514", E, Scope.ROBOT, FixAction.NONE,
         "an output cannot be written", "Nothing is left half-written: the write is atomic.",
         "out/robot.urdf: permission denied", "write elsewhere"),
+    R.MISSING_EXTRA: RuleInfo(
+        "UI516", E, Scope.ROBOT, FixAction.NONE,
+        "a feature needs an optional dependency that is not installed",
+        "The report and the plots need the `report` extra; the compiled winding numbers the "
+        "`fast` extra (numpy's are the fallback). The message is the install command.",
+        "the report needs the report extra: pip install 'urdfinertia[report]'",
+        "install the extra"),
     R.JOINT_UNREADABLE: RuleInfo(
         "UI515", W, Scope.JOINT, FixAction.NONE,
         "a joint's axis, limit or effort could not be read: statics judges it without",

@@ -36,6 +36,8 @@ def dependency_view(folder: Path) -> Path:
 
 
 def test_hook_checks_descriptions_and_skips_other_xml(tmp_path):
+    """One installed hook, every kind of file: URDFs, a package.xml (skipped), a USD
+    layer, and xacro includes, which are checked through the robot including them."""
     pre_commit = shutil.which("pre-commit", path=str(Path(sys.executable).parent))
     if pre_commit is None or shutil.which("git") is None:
         pytest.skip("pre-commit or git not installed")
@@ -46,6 +48,10 @@ def test_hook_checks_descriptions_and_skips_other_xml(tmp_path):
     shutil.copy(DATA / "tri.urdf", repo / "urdf" / "tri.urdf")
     shutil.copy(DATA / "fine.urdf", repo / "urdf" / "fine.urdf")
     (repo / "package.xml").write_text("<package><name>x</name></package>")
+    shutil.copytree(ROOT / "tests" / "data" / "xacro" / "nested", repo / "nested")
+    (repo / "usd").mkdir()
+    shutil.copy(ROOT / "tests" / "data" / "usd" / "handmade" / "instanced.usda",
+                repo / "usd" / "instanced.usda")
     (repo / "notes.txt").write_text("<robot/>")
     git = ["git", "-c", "user.name=t", "-c", "user.email=t@t"]
     subprocess.run([*git, "init", "-q"], cwd=repo, check=True)
@@ -66,3 +72,10 @@ def test_hook_checks_descriptions_and_skips_other_xml(tmp_path):
     assert "urdf/fine.urdf: 3 links, 0 error(s)" in out
     assert "package.xml" not in out.split("hook id")[-1]
     assert "notes.txt" not in out
+    assert "usd/instanced.usda: 2 links, 0 error(s)" in out
+    # the includes are not checked alone (0 links): the robot including them is, once
+    for include in ("nested/parts/body.xacro", "nested/parts/sensors/head.xacro"):
+        assert f"{include}: no links of its own: checked through " \
+               "nested/rover.urdf.xacro" in out
+    assert out.count("nested/rover.urdf.xacro: 3 links, ") == 1
+    assert " 0 links" not in out

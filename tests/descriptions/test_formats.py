@@ -70,3 +70,15 @@ def test_an_unknown_document_is_named_by_the_urdf_reader(tmp_path):
 def test_an_unreadable_file_is_a_one_line_error(tmp_path):
     with pytest.raises(UrdfError, match="cannot read"):
         read_description(tmp_path / "missing.urdf")
+
+
+def test_usd_is_a_description_by_its_suffix():
+    """USD has no XML root element: its suffixes alone make a file a description (the
+    hook and the Action pass every *.usd* file with --skip-unknown-formats)."""
+    from urdfinertia.descriptions.formats import is_description
+
+    layer = b"#usda 1.0\n(\n    defaultPrim = \"robot\"\n)\n"
+    for suffix in (".usd", ".usda", ".usdc", ".usdz"):
+        assert is_description(layer, Path(f"robot{suffix}"))
+    assert not is_description(layer, Path("robot.txt"))
+    assert not is_description(b"<package><name>x</name></package>", Path("package.xml"))

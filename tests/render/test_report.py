@@ -15,7 +15,16 @@ from urdfinertia.body.options import FixOptions
 from urdfinertia.cli import main
 from urdfinertia.inertia import primitives
 from urdfinertia.render.compare_plot import error_series
-from urdfinertia.render.report import ERROR_PANELS, collect, error_figure, render_html, scene_figure
+from urdfinertia.render.report import (
+    COLORS,
+    ERROR_PANELS,
+    collect,
+    error_figures,
+    render_html,
+    scene_figure,
+)
+from urdfinertia.render.report_figures import SOURCE_NAMES
+from urdfinertia.render.report_table import position, vec
 
 #: A 0.2 x 0.1 x 0.05 m box of 2 kg, for the link whose written inertial is right.
 GOOD = primitives.box((0.2, 0.1, 0.05), 1.0).with_mass(2.0)
@@ -84,7 +93,7 @@ def test_a_right_inertial_is_kept_and_matches_the_geometry(hand_data):
     # box; compare's geometry side still matches it
     base = rows_by_name(hand_data)["base"]
     (existing,) = base.boxes
-    assert existing.source == "existing"
+    assert existing.source == "kept"  # as written, and fix keeps it
     np.testing.assert_allclose(np.sort(existing.lengths), [0.05, 0.1, 0.2], rtol=1e-9)
     np.testing.assert_allclose(existing.center, [0.0, 0.0, 0.025], atol=1e-12)
     assert base.recomputed is None and base.fix.action == "keep"
@@ -127,43 +136,79 @@ def test_a_link_without_anything_has_no_box(hand_data):
 def test_scene_figure_holds_every_box_and_every_link_geometry(hand_data):
     fig = scene_figure(hand_data)
     n_boxes = {s: sum(b.source == s for r in hand_data.rows for b in r.boxes)
-               for s in ("existing", "recomputed")}
-    # recomputed: what fix writes for the three links it changes (base is kept)
-    assert n_boxes == {"existing": 2, "recomputed": 3}
+               for s in ("existing", "recomputed", "kept")}
+    # recomputed: what fix writes for the three links it changes; their inertials as
+    # written where valid (triangle); kept: the base's, which fix keeps
+    assert n_boxes == {"existing": 1, "recomputed": 3, "kept": 1}
     for source, n in n_boxes.items():
-        mesh = next(t for t in fig.data if t.name == f"{source} inertia boxes")
+        mesh = next(t for t in fig.data if t.name == f"{SOURCE_NAMES[source]}: boxes")
         assert len(mesh.x) == 8 * n and len(mesh.i) == 12 * n
-        assert mesh.showlegend  # the legend entry is the toggle
-        edges = next(t for t in fig.data if t.name == f"{source} box edges")
+        assert not mesh.showlegend and mesh.opacity < 0.5
+        # the legend entry is the edges' opaque line: legible, and the group's toggle
+        edges = next(t for t in fig.data if t.name == SOURCE_NAMES[source])
         assert edges.legendgroup == source and len(edges.x) == 36 * n
-    geometry = [t for t in fig.data if t.legendgroup == "geometry"]
-    assert len(geometry) == 4  # one trace per link that has geometry
-    assert sum(t.showlegend is True for t in geometry) == 1
+        assert edges.showlegend and edges.mode == "lines"
+    meshes = [t for t in fig.data if t.type == "mesh3d"
+              and t.legendgroup in ("geometry", "changed geometry")]
+    assert len(meshes) == 4  # one trace per link that has geometry
+    changed = {r.name for r in hand_data.rows if r.fix.changed}
+    assert {t.hovertemplate.split("<")[0] for t in meshes
+            if t.legendgroup == "changed geometry"} == changed - {EVIL}
+    squares = [t for t in fig.data if t.type == "scatter3d" and t.showlegend
+               and t.mode == "markers"]
+    assert {t.legendgroup for t in squares} == {"geometry", "changed geometry"}
 
 
-def test_error_figure_draws_the_numbers_of_compare(hand_data):
+def test_the_links_fix_changes_are_named_in_the_view(hand_data):
+    fig = scene_figure(hand_data)
+    names = [a.text for a in fig.layout.scene.annotations]
+    changed = [r.name for r in hand_data.rows if r.fix.changed]
+    assert sorted(names) == sorted(f"<b>{n}</b>" for n in changed)
+    offsets = [(a.ax, a.ay) for a in fig.layout.scene.annotations]
+    assert len(set(offsets)) == len(offsets)  # neighbours point from different sides
+    assert "base" not in changed  # kept: not named, not tinted
+
+
+def _panel_values(fig):
+    (bar,) = fig.data
+    return dict(zip(bar.y, bar.x, strict=True)), dict(zip(bar.y, bar.marker.color,
+                                                          strict=True))
+
+
+def test_error_figures_draw_the_numbers_of_compare(hand_data):
     series = hand_data.error_series
-    fig = error_figure(series)
-    bars = [t for t in fig.data if t.type == "bar"]
+    figures = error_figures(series, hand_data)
     # --mass keep: no mass changed, so compare's mass panel is left out, as in its PNG.
     assert all(v is None or v < 1e-9 for v in series["mass_error"])
     panels = ERROR_PANELS[:3]
-    assert len(bars) == len(panels)
-    for bar, (key, _, _, log) in zip(bars, panels, strict=True):
-        assert list(bar.y) == series["links"]
-        for shown, value in zip(bar.x, series[key], strict=True):
+    assert [key for key, _ in figures] == [key for key, _, _, _ in panels]
+    for (key, fig), (_, _, _, log) in zip(figures, panels, strict=True):
+        shown, _ = _panel_values(fig)
+        assert sorted(shown) == sorted(series["links"])
+        for link, value in zip(series["links"], series[key], strict=True):
             if value is None:
-                assert shown is None
+                assert shown[link] is None
             elif log and value > 0:
-                assert shown == pytest.approx(value)
+                assert shown[link] == pytest.approx(value)
             elif not log:
-                assert shown == value
+                assert shown[link] == value
 
 
-def test_error_figure_shows_the_mass_panel_when_masses_changed(hand_urdf):
+def test_error_bars_are_coloured_and_ranked_by_what_fix_does(hand_data):
+    """A link fix keeps is not painted as an error, whatever its numbers; the links fix
+    changes come first."""
+    _, fig = error_figures(hand_data.error_series, hand_data)[0]
+    _, colors = _panel_values(fig)
+    verdicts = {r.name: r.fix for r in hand_data.rows}
+    for link, color in colors.items():
+        assert color == (COLORS["existing"] if verdicts[link].changed else COLORS["kept"])
+    order = list(fig.data[0].y)
+    assert order[-1] == "base" and all(verdicts[n].changed for n in order[:-1])
+
+
+def test_error_figures_show_the_mass_panel_when_masses_changed(hand_urdf):
     data = collect(hand_urdf, FixOptions(mass="density"))
-    fig = error_figure(data.error_series)
-    assert len([t for t in fig.data if t.type == "bar"]) == len(ERROR_PANELS)
+    assert len(error_figures(data.error_series, data)) == len(ERROR_PANELS)
 
 
 def test_error_series_is_compares_own(hand_urdf, hand_data):
@@ -190,7 +235,7 @@ def test_link_names_cannot_break_out_of_the_page(hand_html):
     assert EVIL not in hand_html
     tree = lxml_html.fromstring(hand_html)
     assert not tree.xpath("//img")
-    names = tree.xpath('//table[@id="links"]/tbody/tr/td[1]/text()')
+    names = tree.xpath('//table[@id="links"]/tbody/tr/td[1]/div/text()')
     assert EVIL in names
 
 
@@ -198,24 +243,74 @@ def test_table_has_one_row_per_link_with_its_story(hand_html, hand_data):
     tree = lxml_html.fromstring(hand_html)
     rows = tree.xpath('//table[@id="links"]/tbody/tr')
     assert len(rows) == len(hand_data.rows) == 5
-    text = {r.xpath("td[1]/text()")[0]: r.text_content() for r in rows}
+    text = {r.xpath("td[1]/div/text()")[0]: r.text_content() for r in rows}
     assert "invalid: inertia of a positive mass must be positive semi-definite" in \
         text["not_definite"]
     assert "triangle inequality" in text["triangle"]
     assert "no <inertial>" in text[EVIL]
-    assert "fix: kept: plausible" in text["base"]
-    # the base is kept as written: its mass as written, and "kept" where fix writes nothing
-    assert re.search(r"E 2\s*R kept", text["base"])
-    assert "fix: repaired" in text["not_definite"] or "fix: recomputed" in \
-        text["not_definite"]
+    assert "kept as written" in text["base"] and "plausible" in text["base"]
+    # the base is kept as written: its values as written, nothing that fix writes
+    assert "as written 2" in text["base"] and "fix writes" not in text["base"]
+    assert re.search(r"(recomputed|repaired)", text["not_definite"])
+    # the links fix changes first, the kept one after them, the untouched last
+    order = [r.xpath("td[1]/div/text()")[0] for r in rows]
+    changed = [r.name for r in hand_data.rows if r.fix.changed]
+    assert sorted(order[:len(changed)]) == sorted(changed)
+    assert order[len(changed)] == "base" and order[-1] == EVIL
+    assert [r.get("class") for r in rows][:len(changed)] == ["g-changed"] * len(changed)
+
+
+def test_the_page_speaks_plainly(hand_html):
+    """No internal field names where a person reads; the verdict leads."""
+    tree = lxml_html.fromstring(hand_html)
+    for script in tree.xpath("//script"):
+        script.getparent().remove(script)
+    visible = tree.text_content()
+    for internal in ("com_distance_rel", "inertia_rel_error", "axis_angle_deg",
+                     "mass_error"):
+        assert internal not in visible, internal
+    assert not re.search(r"\de-(1[3-9]|[2-9]\d)", visible)  # no round-off printed
+    verdict = tree.xpath('//div[@class="verdict"]')[0].text_content()
+    assert verdict.startswith("fix changes 3 of 5 links")
+    assert "keeps 1 as written" in verdict
+
+
+def test_round_off_is_shown_as_zero():
+    assert vec([-0.175, 2.203e-19, -8.175e-20]) == "-0.175 0 0"
+    assert vec([0.45, 0.625, 0.625]) == "0.45 0.625 0.625"
+    assert position([3e-19, -1e-20, 0.0]) == "0 0 0"  # under a picometre: round-off
+    assert vec([3e-7, 1e-20, 0.0]) == "3e-07 0 0"  # relative to the largest component
+    assert position([7.98e-06, 0.08859, -0.003552]) == "7.98e-06 0.08859 -0.003552"
+
+
+def test_long_notes_fold(hand_data):
+    """A row of many per-body repair notes is a count that opens, not a tall cell."""
+    import dataclasses
+
+    from urdfinertia.render.report_table import notes, notes_cell
+
+    row = rows_by_name(hand_data)["triangle"]
+    short = notes_cell(row)
+    assert "<details>" not in short and short  # two short notes stay as they are
+    from urdfinertia.findings import Finding
+    from urdfinertia.rules import Rule
+
+    bodies = tuple(f"collision[0] body {k}: merged 1751 duplicate vertices" for k in range(9))
+    said = tuple(Finding(Rule.MESH_REPAIRED, row.name, b, None, "collision[0]")
+                 for b in bodies)
+    many = dataclasses.replace(row, fix=dataclasses.replace(
+        row.fix, findings=row.fix.findings + said))
+    folded = notes_cell(many)
+    assert folded.startswith(f"<details><summary>{len(notes(many))} notes")
+    assert all(b in folded for b in bodies)  # nothing dropped, only folded
 
 
 def test_page_counts_its_plots_for_whoever_waits_on_them(hand_html):
     tree = lxml_html.fromstring(hand_html)
     figures = int(tree.xpath("//body/@data-figures")[0])
-    assert figures == 2
     divs = tree.xpath('//div[@class="plot"]/@id')
-    assert sorted(divs) == ["errors", "view3d"]
+    assert figures == len(divs) == 4  # the view and three panels (no mass panel)
+    assert sorted(divs) == ["errors-1", "errors-2", "errors-3", "view3d"]
     for div in divs:  # each is drawn by the script at the end of the page
         assert f'"{div}":{{"data":' in hand_html
 

@@ -71,7 +71,8 @@ _ERROR_KEYS = {"format", "key", "faces", "solid_fields", "mesh_fields", "error",
 def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
     """The error :func:`load_mesh` raises, for a cache hit over the limit."""
     return MeshError(f"mesh {path} has {faces} faces, more than the limit "
-                     f"{max_faces} (raise it with --max-faces)", rule=Rule.MESH_TOO_LARGE)
+                     f"{max_faces} (raise it with --max-faces, in Python max_faces=)",
+                     rule=Rule.MESH_TOO_LARGE)
 
 
 def cacheable(outcome: object, path: Path) -> bool:

@@ -22,7 +22,7 @@ from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from urdfinertia import __version__
-from urdfinertia.errors import UrdfInertiaError
+from urdfinertia.errors import EXTRA_OF, MissingExtraError, UrdfInertiaError
 
 #: name -> one-line help; each is implemented in ``urdfinertia.cli.<name>``.
 COMMANDS = {
@@ -169,9 +169,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("urdf-inertia: interrupted", file=sys.stderr)
         return 130
+    except ImportError as exc:
+        extra = missing_extra(args, exc)
+        if extra is not None:  # an optional dependency the command reached for
+            return _fail(args, f"error: {extra}", EXIT_ERROR)
+        return _fail(args, f"internal error: {type(exc).__name__}: {_one_line(str(exc))} "
+                     "(this is a bug; rerun with --debug for the traceback)", EXIT_INTERNAL)
     except Exception as exc:  # any other exception is a bug: say so in one line
         return _fail(args, f"internal error: {type(exc).__name__}: {_one_line(str(exc))} "
                      "(this is a bug; rerun with --debug for the traceback)", EXIT_INTERNAL)
+
+
+def missing_extra(args: argparse.Namespace, exc: ImportError) -> MissingExtraError | None:
+    """``exc`` as the one line naming the extra to install, when the module it misses is
+    an optional dependency (``EXTRA_OF``), else None. The features that need an extra
+    check for it up front (``report``); this catches the others (``--plot``)."""
+    module = (getattr(exc, "name", None) or "").partition(".")[0]
+    if module not in EXTRA_OF:
+        return None
+    what = args.command + (" --plot" if getattr(args, "plot", None) else "")
+    return MissingExtraError(what, EXTRA_OF[module], module)
 
 
 def _fail(args: argparse.Namespace, message: str, code: int) -> int:

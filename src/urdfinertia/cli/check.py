@@ -37,6 +37,7 @@ from urdfinertia.cli.options import (
     add_geometry_source_arguments,
     engine_request,
     positive_float,
+    user_path,
 )
 from urdfinertia.descriptions.formats import is_description, read_bytes, robot_from_bytes
 from urdfinertia.errors import UrdfInertiaError
@@ -84,6 +85,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--skip-unknown-formats", action="store_true",
                    help="skip files no registered format takes by suffix and root element "
                         "(package.xml, launch files): for hooks handed every *.xml")
+    p.add_argument("--includers", action="store_true",
+                   help="a xacro file with no links of its own (a macro include) is checked "
+                        "through the top-level xacro files under the working directory "
+                        "that include it, directly or not: for hooks handed changed files")
     p.add_argument("--no-statics", action="store_true",
                    help="skip whole-robot statics (each joint's gravity load over its range "
                         "against its effort limit)")
@@ -105,7 +110,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    metavar="FRACTION",
                    help="a written total within this fraction of its target is no finding "
                         "(default: %(default)s)")
-    p.add_argument("--spec", type=Path, metavar="TOML",
+    p.add_argument("--spec", type=user_path, metavar="TOML",
                    help="decomposition spec: its parts plan the links as fix --spec does; "
                         "its total_mass and [subtree.NAME] mass are held against the "
                         "written masses (UI703)")
@@ -143,15 +148,23 @@ def run(args: argparse.Namespace) -> int:
                          max_faces=args.max_faces, slips=not args.no_slips, spec=spec,
                          total_mass=args.total_mass, scale_kept=args.scale_kept,
                          realizable=args.realizable)
+    paths = list(args.urdf)
+    if args.includers:
+        from urdfinertia.descriptions.xacro.includers import checked_through
+
+        paths, replaced = checked_through(paths, Path.cwd())
+        for r in replaced:
+            print(f"{r.include}: no links of its own: checked through "
+                  f"{', '.join(map(str, r.robots))}", file=sys.stderr)
     # the meshes in parallel with -j (default: the cores), through the persistent cache
-    meshes = None if args.no_geometry else single_file_library(args, options, list(args.urdf))
+    meshes = None if args.no_geometry else single_file_library(args, options, paths)
     baseline = (Baseline.load(args.baseline) if args.baseline is not None
                 else Baseline.empty(Path.cwd()))
     engines = engine_request(args)
     checked: list[CheckedFile] = []
     plans: dict[Path, Any] = {}
     codes = []
-    for path in args.urdf:
+    for path in paths:
         data = read_bytes(path)
         if args.skip_unknown_formats and not is_description(data, path):
             continue

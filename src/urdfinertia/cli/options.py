@@ -20,10 +20,18 @@ def positive_int(text: str) -> int:
 
 
 def package_dir(text: str) -> tuple[str, Path]:
+    """``NAME=PATH``, the folder absolute: a relative one is read from the working
+    directory, never from the folder of the xacro file that asks for the package."""
     name, sep, path = text.partition("=")
     if not sep or not name or not path:
         raise argparse.ArgumentTypeError(f"expected NAME=PATH, got {text!r}")
-    return name, Path(path)
+    return name, user_path(path)
+
+
+def user_path(text: str) -> Path:
+    """A path typed on the command line, made absolute from the working directory now
+    (``~`` expanded), so that nothing later joins it to another folder."""
+    return Path(text).expanduser().absolute()
 
 
 def xacro_arg(text: str) -> tuple[str, str]:
@@ -82,7 +90,7 @@ def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--density", type=density_value, default=1000.0, metavar="KG_PER_M3",
                    help="density for links without mass or with --mass density "
                         "(kg/m^3, default 1000)")
-    p.add_argument("--spec", type=Path, metavar="TOML",
+    p.add_argument("--spec", type=user_path, metavar="TOML",
                    help="decomposition spec: parts with known mass, density or material")
 
 

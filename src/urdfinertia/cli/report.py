@@ -35,7 +35,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from urdfinertia.plan.policy import every_link
+    from urdfinertia.render.report import require_report_extra
 
+    require_report_extra()  # before any work: one line naming the extra to install
     options = options_from_args(args)
     # the meshes in parallel with -j: every link's, since the report's compare derives
     # every link with geometry (fix's own are among them)

@@ -199,7 +199,8 @@ def read_description(path: str | Path) -> tuple[Robot, bytes]:
 
 
 def is_description(data: bytes, path: str | Path) -> bool:
-    """Whether a registered format takes this file by both its suffix and its root element.
+    """Whether a registered format takes this file by both its suffix and its root element
+    (by its suffix alone for a format without root elements: USD).
 
     For callers handed every ``*.xml`` (or ``*.xacro``, ``*.sdf``) of a repository, such as
     the pre-commit hook: a ROS ``package.xml`` or a launch file is not a description, and a
@@ -209,7 +210,8 @@ def is_description(data: bytes, path: str | Path) -> bool:
     suffix = Path(path).suffix.lower()
     root = root_name(data)
     for fmt in _FORMATS.values():
-        if suffix in fmt.suffixes and root in fmt.roots:
+        # a format that is not XML (USD: no root element) is taken by its suffix alone
+        if suffix in fmt.suffixes and (root in fmt.roots or not fmt.roots):
             if fmt.claims is None or fmt.claims(data, Path(path)):
                 return True
     return False

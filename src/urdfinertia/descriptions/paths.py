@@ -26,12 +26,13 @@ _PACKAGE_NAME_OK = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*\Z")
 def find_package(name: str, urdf_dir: Path, package_dirs: Mapping[str, Path]) -> Path | None:
     """Folder of ROS package ``name``.
 
-    Order: ``package_dirs`` (``--package-dir NAME=PATH``), then ``ROS_PACKAGE_PATH`` and
+    Order: ``package_dirs`` (``--package-dir NAME=PATH``; a relative folder is the working
+    directory's), then ``ROS_PACKAGE_PATH`` and
     ``AMENT_PREFIX_PATH`` (``share/NAME``), then the URDF's folder and its ancestors: a folder
     named ``name``, or one whose ``package.xml`` declares ``name``.
     """
-    if name in package_dirs:
-        return Path(package_dirs[name])
+    if name in package_dirs:  # a relative folder is the working directory's
+        return Path(package_dirs[name]).expanduser().absolute()
     for root in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
         if root:
             for cand in (Path(root) / name, Path(root)):
@@ -72,8 +73,8 @@ def find_model(name: str, sdf_dir: Path, package_dirs: Mapping[str, Path]) -> Pa
     :data:`MODEL_PATH_VARIABLES` (``ROOT/NAME``), then the file's folder and its ancestors:
     a folder named ``name`` holding a ``model.config``, or one that has such a subfolder.
     """
-    if name in package_dirs:
-        return Path(package_dirs[name])
+    if name in package_dirs:  # a relative folder is the working directory's
+        return Path(package_dirs[name]).expanduser().absolute()
     for variable in MODEL_PATH_VARIABLES:
         for root in os.environ.get(variable, "").split(os.pathsep):
             if root and (Path(root) / name).is_dir():
@@ -88,6 +89,12 @@ def find_model(name: str, sdf_dir: Path, package_dirs: Mapping[str, Path]) -> Pa
         if cand.name == name:
             return cand
     return None
+
+
+def package_hint(name: str) -> str:
+    """How to say where package ``name`` is, in both forms: these messages reach command
+    line and library callers alike (and the mesh cache keeps them for either)."""
+    return f"pass --package-dir {name}=PATH (Python: package_dirs={{{name!r}: PATH}})"
 
 
 def _is_package(folder: Path, name: str) -> bool:
@@ -130,10 +137,9 @@ def resolve_mesh_path(
                                   os.environ.get("ROS_PACKAGE_PATH", ""),
                                   os.environ.get("AMENT_PREFIX_PATH", ""))
         if root is None:
-            raise MeshError(
-                f"cannot resolve package '{name}' in {uri!r}: pass --package-dir {name}=PATH "
-                "or set ROS_PACKAGE_PATH", rule=Rule.MESH_UNRESOLVED
-            )
+            raise MeshError(f"cannot resolve package '{name}' in {uri!r}: "
+                            f"{package_hint(name)} or set ROS_PACKAGE_PATH",
+                            rule=Rule.MESH_UNRESOLVED)
         path = root / rel
     elif scheme == "model":
         name, rel = parsed.netloc, unquote(parsed.path).lstrip("/")
@@ -142,10 +148,9 @@ def resolve_mesh_path(
                             rule=Rule.MESH_UNRESOLVED)
         root = find_model(name, urdf_dir, package_dirs)
         if root is None:
-            raise MeshError(
-                f"cannot resolve model '{name}' in {uri!r}: pass --package-dir {name}=PATH "
-                "or set GZ_SIM_RESOURCE_PATH", rule=Rule.MESH_UNRESOLVED
-            )
+            raise MeshError(f"cannot resolve model '{name}' in {uri!r}: "
+                            f"{package_hint(name)} or set GZ_SIM_RESOURCE_PATH",
+                            rule=Rule.MESH_UNRESOLVED)
         path = root / rel
     elif scheme == "file":
         if parsed.netloc not in ("", "localhost"):

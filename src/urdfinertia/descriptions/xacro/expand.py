@@ -118,7 +118,7 @@ def _local_path(text: str, state: _State) -> str:
     """The file a name xacro asks for denotes: ``package://`` through the package lookup
     (xacro itself would join it to the including file's folder), ``file://`` as a path;
     any other URL is refused."""
-    from urdfinertia.descriptions.paths import find_package
+    from urdfinertia.descriptions.paths import find_package, package_hint
 
     scheme = _URL.search(text)
     if scheme is None:
@@ -129,8 +129,8 @@ def _local_path(text: str, state: _State) -> str:
         found = find_package(package.group(1), state.main_dir,
                              {k: Path(v) for k, v in state.settings.package_dirs})
         if found is None:
-            raise UrdfError(f"{uri}: package '{package.group(1)}' not found: pass "
-                            f"--package-dir {package.group(1)}=PATH or set ROS_PACKAGE_PATH")
+            raise UrdfError(f"{uri}: package '{package.group(1)}' not found: "
+                            f"{package_hint(package.group(1))} or set ROS_PACKAGE_PATH")
         return str(found / package.group(2))
     local = _FILE_URI.match(uri)
     if local is not None:
@@ -195,12 +195,12 @@ def _hooks(state: _State) -> dict[str, Any]:
             xacro.filestack.pop()
 
     def find(package):  # noqa: ANN001, ANN202
-        from urdfinertia.descriptions.paths import find_package
+        from urdfinertia.descriptions.paths import find_package, package_hint
 
         found = find_package(package, state.main_dir, dict(state.settings.package_dirs))
         if found is None:
-            raise UrdfError(f"$(find {package}): package not found: pass --package-dir "
-                            f"{package}=PATH or set ROS_PACKAGE_PATH")
+            raise UrdfError(f"$(find {package}): package not found: "
+                            f"{package_hint(package)} or set ROS_PACKAGE_PATH")
         return str(found)
 
     def eval_all(node, macros, symbols):  # noqa: ANN001, ANN202

@@ -26,11 +26,21 @@ _settings = XacroSettings()
 
 def configure(args: Mapping[str, str] | None = None,
               package_dirs: Mapping[str, str | Path] | None = None) -> None:
-    """Set the arguments and package folders used by every later expansion (the CLI)."""
+    """Set the arguments and package folders used by every later expansion (the CLI).
+
+    A relative package folder is made absolute here, from the working directory: xacro
+    joins a relative ``$(find PKG)`` to the including file's folder.
+    """
     global _settings
     _settings = XacroSettings(
         tuple(sorted((args or {}).items())),
-        tuple(sorted((k, str(v)) for k, v in (package_dirs or {}).items())))
+        tuple(sorted((k, absolute_folder(v)) for k, v in (package_dirs or {}).items())))
+
+
+def absolute_folder(path: str | Path) -> str:
+    """``path`` absolute from the working directory (``~`` expanded), not normalised:
+    ``..`` after a symbolic link keeps its meaning."""
+    return str(Path(path).expanduser().absolute())
 
 
 def current_settings() -> XacroSettings:

@@ -141,10 +141,15 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
     return data
 
 
+#: How to change the face limit, said for command line and library callers alike.
+RAISE_LIMIT = "raise it with --max-faces, in Python max_faces="
+LOWER_LIMIT = "lower --max-faces, in Python max_faces="
+
+
 def _too_large(path: Path, size: int, limit: int, max_faces: int) -> MeshError:
     return MeshError(f"mesh {path} is {size} bytes, more than the limit {limit} bytes "
-                     f"({BYTES_PER_FACE} bytes per face of --max-faces {max_faces}; "
-                     "raise it with --max-faces)", rule=Rule.MESH_TOO_LARGE, of_bytes=True)
+                     f"({BYTES_PER_FACE} bytes per face of the face limit {max_faces}; "
+                     f"{RAISE_LIMIT})", rule=Rule.MESH_TOO_LARGE, of_bytes=True)
 
 
 def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
@@ -160,7 +165,7 @@ def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
     except TooManyFaces as exc:
         raise _too_many(path, exc.faces, max_faces) from None
     except MemoryError:
-        raise MeshError(f"cannot read mesh {path}: out of memory (lower --max-faces)"
+        raise MeshError(f"cannot read mesh {path}: out of memory ({LOWER_LIMIT})"
                         ) from None
     except RecursionError:
         raise MeshError(f"cannot read mesh {path}: nested too deeply") from None
@@ -189,8 +194,7 @@ _NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
 
 def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
     return MeshError(f"mesh {path} has {faces} faces, more than the limit "
-                     f"{max_faces} (raise it with --max-faces)", rule=Rule.MESH_TOO_LARGE,
-                     of_bytes=True)
+                     f"{max_faces} ({RAISE_LIMIT})", rule=Rule.MESH_TOO_LARGE, of_bytes=True)
 
 
 def _load_scene(path: Path, suffix: str) -> Any:
@@ -205,7 +209,7 @@ def _load_scene(path: Path, suffix: str) -> Any:
     except MeshError:
         raise
     except MemoryError:
-        raise MeshError(f"cannot read mesh {path}: out of memory (lower --max-faces)"
+        raise MeshError(f"cannot read mesh {path}: out of memory ({LOWER_LIMIT})"
                         ) from None
     except RecursionError:
         raise MeshError(f"cannot read mesh {path}: nested too deeply") from None

@@ -5,15 +5,18 @@ the signed solid angles its triangles subtend there, divided by 4 pi: 1 inside a
 outside a closed outward surface, -1 inside an inverted one, and a smooth value between
 for an open surface. It decides whether one closed shell lies inside another (cavities,
 nested bodies) independently of how the mesh is triangulated. :func:`winding_numbers`
-is libigl's compiled sum; :func:`solid_angle_winding_numbers` the plain numpy one it is
-tested against. For closed surfaces, :func:`closed_winding_numbers` gets the same
-integers by counting ray crossings, at a fraction of the cost, and falls back to the
-solid angles where a ray grazes an edge.
+is libigl's compiled sum when libigl is installed (the ``fast`` extra), else
+:func:`solid_angle_winding_numbers`, the plain numpy sum it agrees with to round-off.
+For closed surfaces, :func:`closed_winding_numbers` gets the same integers by counting
+ray crossings, at a fraction of the cost, and falls back to the solid angles where a ray
+grazes an edge.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -61,9 +64,10 @@ def solid_angles(points: ArrayLike, triangles: ArrayLike) -> np.ndarray:
 def winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayLike) -> np.ndarray:
     """Generalized winding number of the surface ``(vertices, faces)`` at each point.
 
-    Computed by libigl (``igl.winding_number``: the same sum of solid angles, over a
-    bounding-volume hierarchy that replaces a far cluster by its boundary's closure).
-    :func:`solid_angles` is the plain numpy sum it agrees with, to round-off.
+    Computed by libigl when it is installed (``pip install 'urdfinertia[fast]'``;
+    ``igl.winding_number``: the same sum of solid angles, over a bounding-volume hierarchy
+    that replaces a far cluster by its boundary's closure), else by
+    :func:`solid_angle_winding_numbers`, the plain numpy sum; the two agree to round-off.
 
     Parameters
     ----------
@@ -80,9 +84,33 @@ def winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayLike) ->
     f = np.ascontiguousarray(faces, dtype=np.int64).reshape(-1, 3)
     if len(pts) == 0 or len(f) == 0:
         return np.zeros(len(pts))
-    import igl
-
+    igl = compiled()
+    if igl is None:
+        return solid_angle_winding_numbers(pts, v, f)
     return np.asarray(igl.winding_number(v, f, pts), dtype=np.float64)
+
+
+#: libigl, imported on first use; False when it is not installed (or its use is switched
+#: off by :data:`NO_COMPILED`).
+_IGL: Any = None
+#: Environment variable that, set to 1, makes :func:`winding_numbers` use the numpy sum
+#: even where libigl is installed (to compare the two: scripts/bench_winding.py).
+NO_COMPILED = "URDFINERTIA_NO_LIBIGL"
+
+
+def compiled() -> Any:
+    """The ``igl`` module, or None when libigl is not installed (or :data:`NO_COMPILED`)."""
+    global _IGL
+    if _IGL is None:
+        _IGL = False
+        if os.environ.get(NO_COMPILED, "") != "1":
+            try:
+                import igl
+            except ImportError:
+                pass
+            else:
+                _IGL = igl
+    return _IGL or None
 
 
 def solid_angle_winding_numbers(points: ArrayLike, vertices: ArrayLike,
