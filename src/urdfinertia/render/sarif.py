@@ -14,12 +14,16 @@ import os
 from pathlib import Path
 
 from urdfinertia import __version__
+from urdfinertia import rules as registry
 from urdfinertia.analysis.check import RULES, Rule
 from urdfinertia.analysis.locate import CheckedFile
 from urdfinertia.link.slips import TextEdit
 
 SARIF_SCHEMA = ("https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/"
                 "sarif-schema-2.1.0.json")
+#: The documentation site (mkdocs.yml's ``site_url``): each rule's ``helpUri`` is its section
+#: of the rules page there, ``{DOCS_URL}rules/#ui111``.
+DOCS_URL = "https://OWNER.github.io/urdfinertia/"
 #: our severities -> SARIF levels
 LEVELS = {"error": "error", "warning": "warning", "info": "note"}
 
@@ -40,11 +44,25 @@ def artifact_uri(path: Path) -> str:
     return Path(shown).as_uri() if Path(shown).is_absolute() else shown
 
 
+def help_uri(rule_id: str) -> str | None:
+    """The rules page's section of the rule ``rule_id`` ("UI111"); None for an id the
+    registry does not know."""
+    try:
+        return f"{DOCS_URL}rules/#{registry.Rule.by_id(rule_id).anchor}"
+    except KeyError:
+        return None
+
+
 def _rule_json(rule: Rule) -> dict:
-    return {"id": rule.id, "name": rule.code,
-            "shortDescription": {"text": rule.summary},
-            "defaultConfiguration": {"level": LEVELS[rule.severity]},
-            "properties": {"element": rule.element}}
+    descriptor = {"id": rule.id, "name": rule.code,
+                  "shortDescription": {"text": rule.summary},
+                  "defaultConfiguration": {"level": LEVELS[rule.severity]},
+                  "properties": {"element": rule.element}}
+    uri = help_uri(rule.id)
+    if uri is not None:
+        descriptor["helpUri"] = uri
+        descriptor["fullDescription"] = {"text": registry.Rule.by_id(rule.id).meaning}
+    return descriptor
 
 
 def sarif_document(files: list[CheckedFile], *, with_baseline: bool = False,
