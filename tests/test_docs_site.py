@@ -169,6 +169,7 @@ _REST = {
     "a reST role": re.compile(r":(class|func|data|mod|meth|attr|exc|obj|ref):"),
     "a literal block marker (::)": re.compile(r"::\s*$", re.MULTILINE),
     "a reST table rule (====)": re.compile(r"={4,}"),
+    "an unresolved cross-reference": re.compile(r"\]\[[\w.]*\]"),
     "a collapsed field list": re.compile(
         r"\b\w+ : [^\n]{1,80}\. \w+ : "),
 }
@@ -221,7 +222,8 @@ def test_the_pending_list_only_holds_modules_with_rest(site):
 
 
 def test_the_raw_rest_check_can_fail():
-    found = raw_rest("see :class:`Rule` ::\n====  ====\nname : a thing. other : more")
+    found = raw_rest("see :class:`Rule` ::\n====  ====\nname : a thing. other : more"
+                     " [Rule][]")
     assert {f.split(": ")[0] for f in found} == set(_REST)
 
 

@@ -1,8 +1,8 @@
 """The exception hierarchy. The CLI turns any of these into one line and exit code 2.
 
-Every exception carries a short ``code`` naming its category ("mesh-missing",
+Every exception carries a short `code` naming its category ("mesh-missing",
 "mesh-too-large", ...): the class gives a default and the raiser may name a finer one
-(``MeshError(cause, code="no-volume")``). Reports and problem lists read the attribute,
+(`MeshError(cause, code="no-volume")`). Reports and problem lists read the attribute,
 never the message's words.
 """
 
@@ -21,14 +21,14 @@ class UrdfInertiaError(Exception):
     cause : str
         What is wrong, without the location.
     code : str
-        The category of the problem (the class's :attr:`default_code` unless the raiser
+        The category of the problem (the class's `default_code` unless the raiser
         named another), as reports and the JSON output name it.
     file, line, link : str, int, str or None
         Where, as far as known.
     """
 
-    #: category of the class's problems, when the raiser names none
     default_code = "error"
+    """Category of the class's problems, when the raiser names none."""
 
     def __init__(
         self,
@@ -75,8 +75,8 @@ class UrdfError(UrdfInertiaError):
 class MeshError(UrdfInertiaError):
     """A referenced mesh is missing, unreadable, unsupported or unusable.
 
-    Codes: "mesh-missing" (no such file), "mesh-unresolved" (a ``package://`` or
-    ``model://`` that names no known folder), "mesh-url" (a remote or non-file URI),
+    Codes: "mesh-missing" (no such file), "mesh-unresolved" (a `package://` or
+    `model://` that names no known folder), "mesh-url" (a remote or non-file URI),
     "mesh-format" (a format no reader takes), "mesh-too-large" (over the size or face
     limit), "no-volume" (encloses no volume), "mesh-unreadable" (anything else).
     """

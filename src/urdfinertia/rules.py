@@ -42,11 +42,11 @@ class Scope(StrEnum):
     """What a finding points at in the file (its SARIF region)."""
 
     INERTIAL = "inertial"
-    """The link's ``<inertial>`` (or the MJCF ``<inertial>``, the USD MassAPI)."""
+    """The link's `<inertial>` (or the MJCF `<inertial>`, the USD MassAPI)."""
     LINK = "link"
     """The link (or body) element."""
     ELEMENT = "element"
-    """One element of a link: a ``<collision>``, ``<visual>``, geom or mesh reference."""
+    """One element of a link: a `<collision>`, `<visual>`, geom or mesh reference."""
     JOINT = "joint"
     """A joint."""
     ROBOT = "robot"
@@ -54,7 +54,7 @@ class Scope(StrEnum):
 
 
 class FixAction(StrEnum):
-    """What ``fix`` (default options) does about a finding of a rule."""
+    """What `fix` (default options) does about a finding of a rule."""
 
     RECOMPUTE = "recompute"
     """Derives the values it distrusts from the geometry that represents the body; keeps the rest
@@ -67,7 +67,7 @@ class FixAction(StrEnum):
     KEEP = "keep"
     """Keeps the values as written: the finding is advice or a note."""
     NONE = "none"
-    """Nothing: the finding is not about a value ``fix`` writes."""
+    """Nothing: the finding is not about a value `fix` writes."""
 
 
 @dataclass(frozen=True)

@@ -52,7 +52,7 @@ def open_executor(jobs: int, dask: str | None) -> Iterator[cf.Executor | None]:
 
 
 def connect_dask(address: str, timeout: str = "20s"):
-    """A ``distributed.Client`` for the scheduler at ``address``."""
+    """A `distributed.Client` for the scheduler at `address`."""
     try:
         from distributed import Client
     except ImportError:

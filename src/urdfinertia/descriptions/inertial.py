@@ -1,8 +1,8 @@
 """An inertial as written, in the link frame, before any validation (any format).
 
-:class:`RawInertial` holds arrays, so that an invalid inertial (NaN, negative mass, a
+`RawInertial` holds arrays, so that an invalid inertial (NaN, negative mass, a
 tensor that breaks the triangle inequality) can be compared and reported instead of
-crashing :class:`~urdfinertia.inertia.massprops.MassProperties`'s checks.
+crashing [`MassProperties`][urdfinertia.inertia.massprops.MassProperties]'s checks.
 """
 
 from __future__ import annotations
@@ -21,9 +21,14 @@ from urdfinertia.inertia.validity import TensorDiagnosis, diagnose_tensor
 class RawInertial:
     """A link's inertial in the link frame, unvalidated.
 
-    mass : float, kg (may be NaN, zero or negative).
-    com : (3,) float, m, in the link frame.
-    inertia : (3, 3) float, kg m^2, about ``com`` along the link frame's axes.
+    Attributes
+    ----------
+    mass : float
+        kg; may be NaN, zero or negative.
+    com : (3,) float
+        In the link frame, m.
+    inertia : (3, 3) float
+        About `com` along the link frame's axes, kg m^2.
     """
 
     mass: float

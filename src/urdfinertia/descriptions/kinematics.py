@@ -1,7 +1,7 @@
 """The joint tree, in one place: link poses at the zero configuration, which links move,
-and which are welded together by fixed joints (``check``'s lumping, the report's poses).
+and which are welded together by fixed joints (`check`'s lumping, the report's poses).
 
-Many simulators (Gazebo, MuJoCo's ``fusestatic``, Pinocchio's reduced models) merge links
+Many simulators (Gazebo, MuJoCo's `fusestatic`, Pinocchio's reduced models) merge links
 joined by fixed joints into one body, so what must be physical is often the merged body.
 A link "moves" when it is the child of a joint that is not fixed.
 """
@@ -18,10 +18,16 @@ from urdfinertia.descriptions.model import Joint, Robot
 
 @dataclass(frozen=True, eq=False)
 class FixedGroup:
-    """Links welded to ``root`` by fixed joints.
+    """Links welded to `root` by fixed joints.
 
-    members : link names, root first.
-    poses : (4, 4) pose of each member's frame in the root's frame, same order.
+    Attributes
+    ----------
+    root : str
+        The link the others are welded to.
+    members : tuple of str
+        The link names, root first.
+    poses : tuple of (4, 4) float
+        The pose of each member's frame in the root's frame, in the same order.
     """
 
     root: str

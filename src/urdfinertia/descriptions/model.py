@@ -16,13 +16,13 @@ from urdfinertia.inertia.rotation import pose_matrix
 
 @dataclass(frozen=True)
 class Origin:
-    """``<origin xyz rpy>``: a child frame's pose in its parent frame."""
+    """`<origin xyz rpy>`: a child frame's pose in its parent frame."""
 
     xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
     rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def matrix(self) -> np.ndarray:
-        """(4, 4) homogeneous transform, rotation ``Rz Ry Rx`` (paper eq. 15)."""
+        """(4, 4) homogeneous transform, rotation `Rz Ry Rx` (paper eq. 15)."""
         return pose_matrix(self.xyz, self.rpy)
 
 
@@ -70,7 +70,7 @@ Shape = Box | Cylinder | Sphere | Capsule | Cone | Ellipsoid | Mesh
 
 @dataclass(frozen=True)
 class GeometryRef:
-    """One ``<collision>`` or ``<visual>`` of a link."""
+    """One `<collision>` or `<visual>` of a link."""
 
     role: str  # "collision" | "visual"
     index: int  # position among the link's elements of that role
@@ -78,14 +78,16 @@ class GeometryRef:
     origin: Origin
     shape: Shape
     line: int | None = None
-    #: what the description itself states about the element's material (MJCF geom
-    #: ``density``/``mass``, SDF ``<density>``): kg/m^3 and kg, None when it says nothing
     density: float | None = None
+    """What the description itself states about the element's material (MJCF geom
+    `density`/`mass`, SDF `<density>`): kg/m^3 and kg, None when it says nothing.
+    """
     mass: float | None = None
-    #: ``density``/``mass`` only weigh the elements against each other: a link mass that
-    #: is kept scales them all (MJCF: MuJoCo ignores geom materials of a body that has an
-    #: ``<inertial>``; their proportions still say where the mass is)
     relative: bool = False
+    """`density`/`mass` only weigh the elements against each other: a link mass that is kept
+    scales them all (MJCF: MuJoCo ignores geom materials of a body that has an `<inertial>`;
+    their proportions still say where the mass is)
+    """
 
     @property
     def label(self) -> str:
@@ -95,7 +97,7 @@ class GeometryRef:
 
 @dataclass(frozen=True)
 class Inertial:
-    """``<inertial>`` as written: inertia about ``origin`` along the origin's axes."""
+    """`<inertial>` as written: inertia about `origin` along the origin's axes."""
 
     origin: Origin
     mass: float
@@ -128,17 +130,20 @@ class Link:
     visuals: tuple[GeometryRef, ...] = ()
     inertial: Inertial | None = None
     line: int | None = None
-    #: the elements the format itself counts for inertia, when it has such a rule (MJCF:
-    #: geoms whose group is in ``inertiagrouprange``); ``--geometry auto`` then uses them
     inertia_geometry: tuple[GeometryRef, ...] | None = None
-    #: what the reader wants said about this link (dropped elements, included files)
+    """The elements the format itself counts for inertia, when it has such a rule (MJCF: geoms whose
+    group is in `inertiagrouprange`); `--geometry auto` then uses them.
+    """
     notes: tuple[str, ...] = ()
-    #: the format asks its simulator to compute this inertial at load time (SDFormat
-    #: ``<inertial auto="true">``): ``fix --keep-auto`` leaves it so
+    """What the reader wants said about this link (dropped elements, included files)"""
     auto_inertial: bool = False
-    #: why this document cannot carry a new inertial for the link (MJCF: the body is
-    #: defined in an included file, which ``fix`` does not write); None when it can
+    """The format asks its simulator to compute this inertial at load time (SDFormat
+    `<inertial auto="true">`): `fix --keep-auto` leaves it so.
+    """
     read_only: str | None = None
+    """Why this document cannot carry a new inertial for the link (MJCF: the body is defined in an
+    included file, which `fix` does not write); None when it can.
+    """
 
 
 @dataclass(frozen=True)
@@ -149,35 +154,47 @@ class Joint:
     child: str
     origin: Origin = field(default_factory=Origin)
     line: int | None = None
-    #: the motion's axis in the joint frame (URDF's default x), for whole-robot statics
     axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
-    #: a point the axis passes through, in the child link frame: URDF's is the frame's
-    #: origin; an MJCF joint ``pos`` or an SDFormat joint ``<pose>`` may put it elsewhere
+    """The motion's axis in the joint frame (URDF's default x), for whole-robot statics."""
     axis_point: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    #: ``<limit lower upper effort>``: m or rad, and N or N m; None when not stated
+    """A point the axis passes through, in the child link frame: URDF's is the frame's origin; an
+    MJCF joint `pos` or an SDFormat joint `<pose>` may put it elsewhere.
+    """
     lower: float | None = None
+    """`<limit lower upper effort>`: m or rad, and N or N m; None when not stated."""
     upper: float | None = None
     effort: float | None = None
-    #: ``<mimic joint multiplier offset>``: (joint, multiplier, offset), None when it has none
     mimic: tuple[str, float, float] | None = None
+    """`<mimic joint multiplier offset>`: (joint, multiplier, offset), None when it has none."""
 
 
-#: Kinds of :class:`Problem`: how the reader went on.
 PROBLEM_KINDS = ("dropped", "ignored", "lenient")
+"""Kinds of [`Problem`][urdfinertia.descriptions.model.Problem]: how the reader went on."""
 
 
 @dataclass(frozen=True)
 class Problem:
     """Something in a description read past instead of refusing the whole document.
 
-    kind : "dropped" (the element, e.g. one ``<collision>``, is left out of the model),
-        "ignored" (a value not needed for inertials could not be read: a joint origin,
-        an existing ``<inertial>``), "lenient" (read the way urdfdom reads it, e.g. a
-        comma between numbers or an XML declaration of version 0.0).
-    code : short category for reports ("bad-number", "zero-size", "unsupported-shape",
+    Attributes
+    ----------
+    code : str
+        A short category for reports ("bad-number", "zero-size", "unsupported-shape",
         "unexpanded-substitution", "xml-declaration", ...).
-    element : what it is about ("collision[1]", "joint 'j1'", "inertial"), None for the
-        document as a whole.
+    cause : str
+        What was wrong, in words.
+    line : int or None
+        The line in the file, when known.
+    link : str or None
+        The link it belongs to, None outside links.
+    element : str or None
+        What it is about ("collision[1]", "joint 'j1'", "inertial"), None for the document
+        as a whole.
+    kind : {"dropped", "ignored", "lenient"}
+        "dropped": the element (one `<collision>`, say) is left out of the model;
+        "ignored": a value not needed for inertials could not be read (a joint origin, an
+        existing `<inertial>`); "lenient": read the way urdfdom reads it (a comma between
+        numbers, an XML declaration of version 0.0).
     """
 
     code: str
@@ -188,7 +205,7 @@ class Problem:
     kind: str = "dropped"
 
     def describe(self, file: str | Path | None) -> str:
-        """One line: ``file:line: link 'name' element: cause`` (the errors' layout)."""
+        """One line: `file:line: link 'name' element: cause` (the errors' layout)."""
         where = str(file) if file is not None else "<input>"
         if self.line is not None:
             where += f":{self.line}"
@@ -203,15 +220,16 @@ class Robot:
     links: tuple[Link, ...]
     joints: tuple[Joint, ...]
     path: Path | None = None
-    #: the registered description format that read it ("urdf", ...): it also writes it
     format: str = "urdf"
-    #: what the reader read past, in document order (elements dropped, values ignored)
+    """The registered description format that read it ("urdf", ...): it also writes it."""
     problems: tuple[Problem, ...] = ()
-    #: what the reader wants said about the document (SDF includes it does not follow)
+    """What the reader read past, in document order (elements dropped, values ignored)"""
     notes: tuple[str, ...] = ()
-    #: what the reader could not read of the joints' motion (axis, limits, effort): only
-    #: whole-robot statics uses it, so ``fix`` does not print these
+    """What the reader wants said about the document (SDF includes it does not follow)"""
     joint_notes: tuple[str, ...] = ()
+    """What the reader could not read of the joints' motion (axis, limits, effort): only whole-robot
+    statics uses it, so `fix` does not print these.
+    """
 
     def link(self, name: str) -> Link:
         for link in self.links:

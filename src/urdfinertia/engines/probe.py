@@ -1,6 +1,6 @@
 """Load one URDF in one engine and step it passively: run in a child process.
 
-``python -m urdfinertia.engines.probe ENGINE URDF OUT.json [--seconds S]`` writes what
+`python -m urdfinertia.engines.probe ENGINE URDF OUT.json [--seconds S]` writes what
 happened as JSON to OUT.json (stdout and stderr are left to the engine's own chatter,
 which the parent keeps for refusal messages). The base is fixed to the world in every
 engine, as arm users load it and as MuJoCo's URDF import does; gravity is -9.81 m/s^2
@@ -28,13 +28,14 @@ from pathlib import Path
 
 import numpy as np
 
-#: a joint speed at or above this (rad/s or m/s) in a passive run is a runaway, not
-#: motion: under gravity alone a swinging link reaches sqrt(2 g / k) rad/s at most (k its
-#: radius of gyration: 100 rad/s needs k < 2 mm). It is also PyBullet's own speed cap
-#: (maxJointVelocity), so a runaway there shows as a speed pinned at it.
 RUNAWAY_SPEED = 100.0
-#: Pinocchio has no stepper: semi-implicit Euler with MuJoCo's default time step.
+"""A joint speed at or above this (rad/s or m/s) in a passive run is a runaway, not motion: under
+gravity alone a swinging link reaches sqrt(2 g / k) rad/s at most (k its radius of gyration: 100
+rad/s needs k < 2 mm). It is also PyBullet's own speed cap (maxJointVelocity), so a runaway there
+shows as a speed pinned at it.
+"""
 PINOCCHIO_DT = 0.002
+"""Pinocchio has no stepper: semi-implicit Euler with MuJoCo's default time step."""
 GRAVITY = (0.0, 0.0, -9.81)
 
 

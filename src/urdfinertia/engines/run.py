@@ -35,14 +35,14 @@ ENGINES: dict[str, EngineSpec] = {
     "pinocchio": EngineSpec("pinocchio", "Pinocchio", "pinocchio", "pin"),
     "pybullet": EngineSpec("pybullet", "PyBullet", "pybullet", "pybullet"),
 }
-#: seconds a child may take to load and step one robot before it counts as hung
 DEFAULT_TIMEOUT = 120.0
-#: MuJoCo warnings that mean the simulation state went bad (MuJoCo then resets it)
+"""Seconds a child may take to load and step one robot before it counts as hung."""
 _BAD_STATE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
+"""MuJoCo warnings that mean the simulation state went bad (MuJoCo then resets it)"""
 
 
 def parse_engines(text: str) -> tuple[str, ...]:
-    """``mujoco,pybullet`` -> names; ``all`` is every known engine."""
+    """`mujoco,pybullet` -> names; `all` is every known engine."""
     names = [n.strip().lower() for n in text.split(",") if n.strip()]
     if names == ["all"]:
         return tuple(ENGINES)
@@ -74,8 +74,8 @@ class Outcome:
 
 def run_probe(engine: str, urdf: Path, *, seconds: float, timeout: float,
               shown_as: Path | None = None) -> Outcome:
-    """Load and step ``urdf`` in ``engine`` in a child process; messages naming ``urdf``
-    name ``shown_as`` instead (the user's file, not the engine's temporary copy)."""
+    """Load and step `urdf` in `engine` in a child process; messages naming `urdf`
+    name `shown_as` instead (the user's file, not the engine's temporary copy)."""
     outcome = _run_probe(engine, urdf, seconds=seconds, timeout=timeout)
     if shown_as is None:
         return outcome
@@ -115,7 +115,7 @@ def _text(data: bytes | str | None) -> str:
 
 @dataclass(frozen=True)
 class EngineCheck:
-    """``--engines``: which engines, how long a passive run, how long before a child hangs."""
+    """`--engines`: which engines, how long a passive run, how long before a child hangs."""
 
     engines: tuple[str, ...]
     seconds: float = 2.0
@@ -199,7 +199,7 @@ def _one_line(text: str) -> str:
 
 
 def engine_lines(output: str) -> list[str]:
-    """An engine's console output as messages: Bullet's ``b3Error[file,line]:`` prefixes
+    """An engine's console output as messages: Bullet's `b3Error[file,line]:` prefixes
     become line breaks (it prints the message after them), its banner is dropped."""
     text = re.sub(r"b3(Error|Warning|Printf)\[[^\]]*\]:\s*", r"\n\1: ", output)
     keep: list[str] = []
@@ -225,7 +225,7 @@ def stable(outcome: Outcome) -> bool:
 
 def regressions(before: Mapping[str, Outcome], after: Mapping[str, Outcome],
                 ) -> list[Finding]:
-    """What ``fix`` made worse in an engine: refused (error) or unstable (warning) output
+    """What `fix` made worse in an engine: refused (error) or unstable (warning) output
     where the input was accepted or stable. Neither must ever happen."""
     out = []
     for name, old in before.items():

@@ -1,10 +1,10 @@
 """What an engine does to inertials without refusing: defaults, replacements, bounds.
 
-PyBullet gives a link without ``<inertial>`` 1 kg and a unit diagonal, and sets the
+PyBullet gives a link without `<inertial>` 1 kg and a unit diagonal, and sets the
 tensor of a link it finds "bad" (its own triangle-inequality test after diagonalising) to
 zero, both with a console warning only. MuJoCo computes a missing inertial from the
-collision geometry at 1000 kg/m^3, and applies ``boundmass``, ``boundinertia``,
-``balanceinertia`` and ``inertiafromgeom`` when the URDF's ``<mujoco><compiler>`` asks.
+collision geometry at 1000 kg/m^3, and applies `boundmass`, `boundinertia`,
+`balanceinertia` and `inertiafromgeom` when the URDF's `<mujoco><compiler>` asks.
 Pinocchio's URDF parser (urdfdom) prints an error for a value it cannot parse and goes on.
 """
 
@@ -21,8 +21,8 @@ from urdfinertia.descriptions.kinematics import Kinematics
 from urdfinertia.descriptions.model import Robot
 from urdfinertia.engines.prepare import mujoco_compiler_options
 
-#: relative difference of principal moments that counts as a change (float32 in Bullet)
 _CHANGED = 1e-3
+"""Relative difference of principal moments that counts as a change (float32 in Bullet)"""
 
 
 def silent_findings(engine: str, result: dict, robot: Robot, data: bytes, path: Path,

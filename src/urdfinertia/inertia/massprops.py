@@ -1,14 +1,16 @@
 """The mass-properties value type and the paper's frame algebra (eqs. 21-23, 43-46).
 
-Pure numpy. A :class:`MassProperties` is a rigid body's mass, its centre of mass and
-its inertia tensor about that centre of mass, all expressed in one frame F (the frame
-the object was built in or moved to). The inertia follows the URDF sign convention:
-off-diagonal entries are ``-integral(x y dm)`` (paper eq. 21/22).
+Pure numpy. A [`MassProperties`][urdfinertia.inertia.massprops.MassProperties] is a rigid body's
+mass, its centre of mass and its inertia tensor about that centre of mass, all expressed in one
+frame F (the frame the object was built in or moved to). The inertia follows the URDF sign
+convention: off-diagonal entries are `-integral(x y dm)` (paper eq. 21/22).
 
-Moving a body between frames is explicit: :meth:`MassProperties.rotated` (``A I A^T``,
-eq. 23 applied inside eq. 22) and :meth:`MassProperties.translated`; bodies combine with
-``+`` or :func:`combine`, which applies the Huygens-Steiner theorem about the common
-centre of mass (eqs. 43-44).
+Moving a body between frames is explicit:
+[`MassProperties.rotated`][urdfinertia.inertia.massprops.MassProperties.rotated] (`A I A^T`, eq. 23
+applied inside eq. 22) and
+[`MassProperties.translated`][urdfinertia.inertia.massprops.MassProperties.translated]; bodies
+combine with `+` or [`combine`][urdfinertia.inertia.massprops.combine], which applies the
+Huygens-Steiner theorem about the common centre of mass (eqs. 43-44).
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from urdfinertia.inertia.validity import SEMIDEFINITE_RTOL, SYMMETRY_RTOL, is_va
 
 
 def point_mass_inertia(mass: float, offset: ArrayLike) -> np.ndarray:
-    """Inertia of a point mass at ``offset`` about the origin: ``m (|r|^2 E - r r^T)``.
+    """Inertia of a point mass at `offset` about the origin: `m (|r|^2 E - r r^T)`.
 
     This is the Huygens-Steiner term of eq. 43.
     """
@@ -40,12 +42,12 @@ class MassProperties:
     Attributes
     ----------
     mass : float
-        kg. Negative only for a cavity (see :meth:`negated`).
+        kg. Negative only for a cavity (see `negated`).
     com : (3,) float
         Centre of mass in F, m.
     inertia : (3, 3) float
-        Inertia about ``com`` along F's axes, kg m^2, URDF sign convention
-        (``inertia[0, 1] == -integral(x y dm)``).
+        Inertia about `com` along F's axes, kg m^2, URDF sign convention
+        (`inertia[0, 1] == -integral(x y dm)`).
     """
 
     mass: float
@@ -89,7 +91,7 @@ class MassProperties:
     def _derived(cls, mass: float, com: np.ndarray, inertia: np.ndarray) -> MassProperties:
         """A valid body moved rigidly or rescaled: checked for shape and finiteness only.
 
-        For the results of :meth:`rotated`, :meth:`translated` and :meth:`with_mass`: a
+        For the results of `rotated`, `translated` and `with_mass`: a
         proper rotation, a translation, or scaling mass and tensor by one factor keeps a
         valid body's tensor symmetric and its eigenvalues' signs matched to the mass's
         (up to round-off the symmetrisation removes), so the eigenvalue check of
@@ -112,30 +114,30 @@ class MassProperties:
     # --- named constructors -------------------------------------------------------
     @classmethod
     def zero(cls) -> MassProperties:
-        """The empty body (neutral element of ``+``)."""
+        """The empty body (neutral element of `+`)."""
         return cls(0.0, np.zeros(3), np.zeros((3, 3)))
 
     @classmethod
     def from_inertia_about_point(
         cls, mass: float, com: ArrayLike, inertia: ArrayLike, point: ArrayLike
     ) -> MassProperties:
-        """Build from an inertia given about ``point`` (inverse of :meth:`about`)."""
+        """Build from an inertia given about `point` (inverse of `about`)."""
         com = np.asarray(com, dtype=np.float64)
         shift = point_mass_inertia(mass, com - np.asarray(point, dtype=np.float64))
         return cls(mass, com, np.asarray(inertia, dtype=np.float64) - shift)
 
     # --- frame changes -------------------------------------------------------------
     def rotated(self, rotation: ArrayLike) -> MassProperties:
-        """The body rotated by ``rotation`` about F's origin: ``c' = A c``, ``I' = A I A^T``.
+        """The body rotated by `rotation` about F's origin: `c' = A c`, `I' = A I A^T`.
 
         Equivalently: the same body expressed in a parent frame whose axes relate to F's
-        by ``r_parent = A r_F`` (eqs. 23-26).
+        by `r_parent = A r_F` (eqs. 23-26).
         """
         a = _rotation(rotation)
         return MassProperties._derived(self.mass, a @ self.com, a @ self.inertia @ a.T)
 
     def translated(self, offset: ArrayLike) -> MassProperties:
-        """The body moved by ``offset``; its central inertia is unchanged."""
+        """The body moved by `offset`; its central inertia is unchanged."""
         return MassProperties._derived(self.mass,
                                      self.com + np.asarray(offset, dtype=np.float64),
                                      self.inertia)
@@ -153,7 +155,7 @@ class MassProperties:
         return MassProperties._derived(self.mass, a @ self.com + t[:3, 3], inertia)
 
     def about(self, point: ArrayLike) -> np.ndarray:
-        """Inertia tensor about ``point`` along F's axes (Huygens-Steiner, eq. 43)."""
+        """Inertia tensor about `point` along F's axes (Huygens-Steiner, eq. 43)."""
         moved: np.ndarray = self.inertia + point_mass_inertia(
             self.mass, self.com - np.asarray(point, dtype=np.float64)
         )
@@ -170,7 +172,7 @@ class MassProperties:
         return MassProperties(-self.mass, self.com, -self.inertia)
 
     def with_mass(self, mass: float) -> MassProperties:
-        """The same geometry with its density scaled so that the mass is ``mass``."""
+        """The same geometry with its density scaled so that the mass is `mass`."""
         if self.mass == 0:
             raise ValueError("cannot rescale a body of zero mass")
         k = float(mass) / self.mass
@@ -185,7 +187,8 @@ class MassProperties:
         return moments, axes
 
     def is_physical(self) -> bool:
-        """True when mass > 0 and the tensor is valid (:func:`validity.is_valid_tensor`)."""
+        """True when mass > 0 and the tensor is valid
+        ([`validity.is_valid_tensor`][urdfinertia.inertia.validity.is_valid_tensor])."""
         return self.mass > 0 and is_valid_tensor(self.inertia)
 
     def __repr__(self) -> str:
@@ -244,21 +247,22 @@ def _rotation(rotation: ArrayLike) -> np.ndarray:
     return a
 
 
-#: Margin of :func:`_surely_semidefinite`, relative to the tensor's largest entry: far
-#: above the round-off of a 3 x 3 LDL^T factorisation (~1e-15) and of LAPACK's
-#: eigenvalues (~1e-14) both, far below the tolerance itself (1e-9 of the trace).
 _SEMIDEFINITE_MARGIN = 1e-12
-#: Entries outside this range take the eigenvalue test: no underflow or overflow below.
+"""Margin of `_surely_semidefinite`, relative to the tensor's largest entry: far above the
+round-off of a 3 x 3 LDL^T factorisation (~1e-15) and of LAPACK's eigenvalues (~1e-14) both, far
+below the tolerance itself (1e-9 of the trace).
+"""
 _SEMIDEFINITE_RANGE = (1e-150, 1e150)
+"""Entries outside this range take the eigenvalue test: no underflow or overflow below."""
 
 
 def _surely_semidefinite(s00: float, s01: float, s02: float, s11: float, s12: float,
                          s22: float, slack: float) -> bool:
-    """True when the symmetric tensor's smallest eigenvalue is above ``-slack`` by a margin
-    no round-off can cross, so that ``np.linalg.eigvalsh`` would find it above ``-slack``
+    """True when the symmetric tensor's smallest eigenvalue is above `-slack` by a margin
+    no round-off can cross, so that `np.linalg.eigvalsh` would find it above `-slack`
     too; False when in doubt (the caller then computes the eigenvalues).
 
-    The tensor shifted by ``slack - margin`` is factorised as ``L D L^T``: all pivots
+    The tensor shifted by `slack - margin` is factorised as `L D L^T`: all pivots
     positive proves it positive definite up to the factorisation's round-off (backward
     stable for a positive definite matrix), far smaller than the margin.
     """

@@ -13,23 +13,24 @@ from numpy.typing import ArrayLike
 
 from urdfinertia.inertia.massprops import _EYE, MassProperties
 
-#: The contraction orders ``optimize=True`` finds for the two second-moment sums, for
-#: every face count (``(x x^T)`` first, then ``det``; ``det s`` first), given so that each
-#: call does not search for them again.
 _SECOND_PATH = ["einsum_path", (1, 2), (0, 1)]
+"""The contraction orders `optimize=True` finds for the two second-moment sums, for every face
+count (`(x x^T)` first, then `det`; `det s` first), given so that each call does not search
+for them again.
+"""
 _CENTRE_PATH = ["einsum_path", (0, 1), (0, 1)]
 
 
 def used_vertices(n: int, faces: np.ndarray) -> np.ndarray:
-    """(n,) bool: which of ``n`` vertices the faces use (O(n), no sort)."""
+    """(n,) bool: which of `n` vertices the faces use (O(n), no sort)."""
     used = np.zeros(n, dtype=bool)
     used[np.asarray(faces).reshape(-1)] = True
     return used
 
 
 def cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``np.cross(a, b)`` of two (n, 3) float64 arrays, bit for bit: the same products and
-    differences (``a1 b2 - a2 b1``, ...), without its axis handling and temporaries."""
+    """`np.cross(a, b)` of two (n, 3) float64 arrays, bit for bit: the same products and
+    differences (`a1 b2 - a2 b1`, ...), without its axis handling and temporaries."""
     a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
     b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
     out = np.empty((len(a), 3))
@@ -51,7 +52,7 @@ def face_volumes(triangles: np.ndarray) -> np.ndarray:
 
 
 def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.ndarray, np.ndarray]:
-    """Volume, ``integral(x dV)`` and ``integral(x x^T dV)`` of a closed oriented mesh.
+    """Volume, `integral(x dV)` and `integral(x x^T dV)` of a closed oriented mesh.
 
     Parameters
     ----------
@@ -102,7 +103,7 @@ def mass_properties_from_integrals(
 ) -> MassProperties:
     """Mass properties of a solid from its volume integrals about the origin.
 
-    ``volume`` must be positive (an outward-oriented solid).
+    `volume` must be positive (an outward-oriented solid).
     """
     if not volume > 0:
         raise ValueError(f"solid volume must be positive, got {volume!r}")

@@ -1,7 +1,7 @@
 """Closed-form mass properties of URDF/SDF primitives, each in its own frame.
 
 Pure numpy. Every body is centred at the origin of its own frame, which is the frame of
-the URDF ``<geometry>``: boxes take *full* side lengths, cylinders and capsules lie along
+the URDF `<geometry>`: boxes take *full* side lengths, cylinders and capsules lie along
 z with *full* length (for a capsule: the length of the cylindrical section between the
 two cap centres, as in SDF and ROS 2 URDF). All take a density in kg/m^3.
 """
@@ -21,7 +21,7 @@ def _positive(name: str, *values: float) -> None:
 
 
 def box(size: ArrayLike, density: float) -> MassProperties:
-    """Cuboid of full side lengths ``size = (a, b, c)`` (paper eq. 39)."""
+    """Cuboid of full side lengths `size = (a, b, c)` (paper eq. 39)."""
     a, b, c = np.asarray(size, dtype=np.float64)
     _positive("box size", a, b, c)
     m = density * a * b * c
@@ -30,7 +30,7 @@ def box(size: ArrayLike, density: float) -> MassProperties:
 
 
 def cylinder(radius: float, length: float, density: float) -> MassProperties:
-    """Solid cylinder of ``radius`` and full ``length`` along z."""
+    """Solid cylinder of `radius` and full `length` along z."""
     _positive("cylinder radius/length", radius, length)
     m = density * np.pi * radius**2 * length
     ixx = m * (3.0 * radius**2 + length**2) / 12.0
@@ -38,14 +38,14 @@ def cylinder(radius: float, length: float, density: float) -> MassProperties:
 
 
 def sphere(radius: float, density: float) -> MassProperties:
-    """Solid sphere of ``radius``."""
+    """Solid sphere of `radius`."""
     _positive("sphere radius", radius)
     m = density * 4.0 / 3.0 * np.pi * radius**3
     return MassProperties(m, np.zeros(3), np.eye(3) * 0.4 * m * radius**2)
 
 
 def ellipsoid(radii: ArrayLike, density: float) -> MassProperties:
-    """Solid ellipsoid of semi-axes ``radii = (a, b, c)`` along x, y, z."""
+    """Solid ellipsoid of semi-axes `radii = (a, b, c)` along x, y, z."""
     a, b, c = np.asarray(radii, dtype=np.float64)
     _positive("ellipsoid radii", a, b, c)
     m = density * 4.0 / 3.0 * np.pi * a * b * c
@@ -54,10 +54,10 @@ def ellipsoid(radii: ArrayLike, density: float) -> MassProperties:
 
 
 def capsule(radius: float, length: float, density: float) -> MassProperties:
-    """Capsule along z: a cylinder of ``radius`` and ``length`` plus two hemispherical caps.
+    """Capsule along z: a cylinder of `radius` and `length` plus two hemispherical caps.
 
     Each cap's centre of mass lies 3r/8 beyond the cylinder end, which gives the
-    ``3 L r / 8`` cross term below.
+    `3 L r / 8` cross term below.
     """
     _positive("capsule radius", radius)
     if not (np.isfinite(length) and length >= 0):
@@ -73,11 +73,11 @@ def capsule(radius: float, length: float, density: float) -> MassProperties:
 
 
 def cone(radius: float, height: float, density: float) -> MassProperties:
-    """Solid right circular cone along z, centred as OpenUSD's ``UsdGeom.Cone``: base disc
-    of ``radius`` at z = -height/2, apex at z = +height/2.
+    """Solid right circular cone along z, centred as OpenUSD's `UsdGeom.Cone`: base disc
+    of `radius` at z = -height/2, apex at z = +height/2.
 
     The centre of mass lies a quarter of the height above the base (z = -height/4);
-    about it ``Izz = 3/10 m r^2`` and ``Ixx = Iyy = m (3/20 r^2 + 3/80 h^2)``.
+    about it `Izz = 3/10 m r^2` and `Ixx = Iyy = m (3/20 r^2 + 3/80 h^2)`.
     """
     _positive("cone radius/height", radius, height)
     r, h = radius, height

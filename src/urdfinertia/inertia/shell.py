@@ -1,25 +1,25 @@
-"""Shells: a solid's wall of thickness ``t`` and the interior it encloses (pure numpy).
+"""Shells: a solid's wall of thickness `t` and the interior it encloses (pure numpy).
 
-The wall is the outer solid minus its *inner parallel body*, the points at least ``t``
+The wall is the outer solid minus its *inner parallel body*, the points at least `t`
 inside the surface; the interior is that inner body (where a 3-D printer puts infill).
 Both are returned as volume integrals at unit density, so the wall is exact whenever the
 inner body is:
 
 * box, sphere, cylinder, capsule, cone: the inner body is the same primitive, smaller
-  (a cone's apex moves in by ``t / sin(half-angle)``): exact closed forms;
+  (a cone's apex moves in by `t / sin(half-angle)`): exact closed forms;
 * ellipsoid: the inner body is *not* an ellipsoid. The wall is integrated over the
-  tube ``x = p(u) - s n(u)``, ``0 <= s <= t``, whose volume element is
-  ``(1 - 2 H s + K s^2) dA ds`` (H, K: mean and Gaussian curvature). That is exact while
-  ``t`` is below the smallest radius of curvature ``c^2 / a`` (Blaschke's rolling ball);
+  tube `x = p(u) - s n(u)`, `0 <= s <= t`, whose volume element is
+  `(1 - 2 H s + K s^2) dA ds` (H, K: mean and Gaussian curvature). That is exact while
+  `t` is below the smallest radius of curvature `c^2 / a` (Blaschke's rolling ball);
   the surface integral is done by Gauss-Legendre x trapezoid quadrature, converged to
   round-off for the resolutions used (see the tests);
-* meshes: each vertex moves inward so that each adjacent face plane moves by ``t``
+* meshes: each vertex moves inward so that each adjacent face plane moves by `t`
   (least squares on the face normals, weighted by the corner angles). That is the exact
   inner offset wherever at most three distinct planes meet at a vertex (a box, any
   convex polyhedron with simple corners); elsewhere the planes miss the vertex by a
-  residual, and ``sum(face area x residual)`` is the stated error of the wall volume.
-  An offset that inverts a face, leaves the solid or comes closer than ``t`` to another
-  part of the surface (a wall thicker than half the part) raises :class:`ShellError`.
+  residual, and `sum(face area x residual)` is the stated error of the wall volume.
+  An offset that inverts a face, leaves the solid or comes closer than `t` to another
+  part of the surface (a wall thicker than half the part) raises `ShellError`.
 """
 
 from __future__ import annotations
@@ -38,17 +38,20 @@ from urdfinertia.inertia.polyhedron import (
     solid_integrals,
 )
 
-#: Eigenvalues of a vertex's normal matrix below this fraction of its largest belong to
-#: directions no adjacent face constrains (a flat or straight neighbourhood).
 _RANK_RTOL = 1e-9
-#: About this many vertex-face pairs are tested for the depth and containment checks (all
-#: vertices of a mesh under ~2000 faces, an even sample of larger ones).
+"""Eigenvalues of a vertex's normal matrix below this fraction of its largest belong to directions
+no adjacent face constrains (a flat or straight neighbourhood).
+"""
 _CHECK_PAIRS = 2_000_000
-#: Meshes with more faces than this have only a sample of their vertices depth-checked.
+"""About this many vertex-face pairs are tested for the depth and containment checks (all vertices
+of a mesh under ~2000 faces, an even sample of larger ones).
+"""
 CHECKED_FACES = int(np.sqrt(2 * _CHECK_PAIRS))
-#: Quadrature of the ellipsoid's wall: Gauss-Legendre nodes in the polar angle, trapezoid
-#: nodes in the azimuth (exact for the cubic-in-s integrands with 3 nodes in s).
+"""Meshes with more faces than this have only a sample of their vertices depth-checked."""
 _ELLIPSOID_NODES = (160, 320)
+"""Quadrature of the ellipsoid's wall: Gauss-Legendre nodes in the polar angle, trapezoid nodes in
+the azimuth (exact for the cubic-in-s integrands with 3 nodes in s).
+"""
 
 
 class ShellError(ValueError):
@@ -65,7 +68,7 @@ class Shell:
     Attributes
     ----------
     wall, interior : (volume, first (3,), second (3, 3))
-        ``integral(1, x, x x^T dV)`` of the wall and of the inner body.
+        `integral(1, x, x x^T dV)` of the wall and of the inner body.
     error : float
         Stated relative error of the wall volume (0 for exact methods).
     method : str
@@ -78,7 +81,7 @@ class Shell:
     method: str
 
     def filled(self, weight: float) -> MassProperties:
-        """Unit-density mass properties of the wall plus the interior at ``weight`` times
+        """Unit-density mass properties of the wall plus the interior at `weight` times
         the wall's density (0: hollow, 1: solid)."""
         if not (math.isfinite(weight) and weight >= 0):
             raise ValueError(f"infill weight must be >= 0 and finite, got {weight!r}")
@@ -88,8 +91,8 @@ class Shell:
 
 
 def moments_of(body: MassProperties) -> Moments:
-    """``(volume, first, second)`` of a unit-density body (inverse of
-    :func:`~urdfinertia.inertia.polyhedron.mass_properties_from_integrals`)."""
+    """`(volume, first, second)` of a unit-density body (inverse of
+    [`mass_properties_from_integrals`][urdfinertia.inertia.polyhedron.mass_properties_from_integrals])."""
     m, c = body.mass, body.com
     cov = 0.5 * np.trace(body.inertia) * _EYE - body.inertia  # central integral(x x^T)
     return m, m * c, cov + m * np.outer(c, c)
@@ -114,7 +117,7 @@ def _too_thick(t: float, limit: float, what: str) -> ShellError:
 # --- primitives -------------------------------------------------------------------------
 
 def box_shell(size: ArrayLike, t: float) -> Shell:
-    """Box of full sides ``size``: the interior is the box ``size - 2 t``."""
+    """Box of full sides `size`: the interior is the box `size - 2 t`."""
     t = _thickness(t)
     s = np.asarray(size, dtype=np.float64)
     if not s.min() > 2 * t:
@@ -132,7 +135,7 @@ def sphere_shell(radius: float, t: float) -> Shell:
 
 
 def cylinder_shell(radius: float, length: float, t: float) -> Shell:
-    """Closed cylinder: walls and both end caps ``t`` thick."""
+    """Closed cylinder: walls and both end caps `t` thick."""
     t = _thickness(t)
     if not (radius > t and length > 2 * t):
         raise _too_thick(t, min(radius, length / 2), "the radius or half the length")
@@ -142,7 +145,7 @@ def cylinder_shell(radius: float, length: float, t: float) -> Shell:
 
 
 def capsule_shell(radius: float, length: float, t: float) -> Shell:
-    """A capsule's inner body is the capsule of radius ``r - t`` on the same segment."""
+    """A capsule's inner body is the capsule of radius `r - t` on the same segment."""
     t = _thickness(t)
     if not radius > t:
         raise _too_thick(t, radius, "the radius")
@@ -152,8 +155,8 @@ def capsule_shell(radius: float, length: float, t: float) -> Shell:
 
 
 def cone_shell(radius: float, height: float, t: float) -> Shell:
-    """Cone as :func:`~urdfinertia.inertia.primitives.cone`: the inner body is a cone of
-    the same half-angle ``a``, base raised by ``t``, apex lowered by ``t / sin a``."""
+    """Cone as [`cone`][urdfinertia.inertia.primitives.cone]: the inner body is a cone of
+    the same half-angle `a`, base raised by `t`, apex lowered by `t / sin a`."""
     t = _thickness(t)
     sin_a = radius / math.hypot(radius, height)
     inner_h = height - t - t / sin_a
@@ -167,7 +170,7 @@ def cone_shell(radius: float, height: float, t: float) -> Shell:
 
 def ellipsoid_shell(radii: ArrayLike, t: float,
                     nodes: tuple[int, int] = _ELLIPSOID_NODES) -> Shell:
-    """Ellipsoid of semi-axes ``radii``: the wall as a tube integral (module docstring)."""
+    """Ellipsoid of semi-axes `radii`: the wall as a tube integral (module docstring)."""
     t = _thickness(t)
     a, b, c = (float(r) for r in np.asarray(radii, dtype=np.float64))
     reach = min(a, b, c) ** 2 / max(a, b, c)
@@ -222,7 +225,7 @@ def mesh_shell(vertices: ArrayLike, faces: ArrayLike, t: float) -> Shell:
     Raises
     ------
     ShellError
-        The offset inverts faces, leaves the solid, comes closer than ``t`` to the
+        The offset inverts faces, leaves the solid, comes closer than `t` to the
         surface elsewhere, or encloses no volume.
     """
     t = _thickness(t)
@@ -278,7 +281,7 @@ def _corner_angles(tri: np.ndarray) -> np.ndarray:
 
 def _check_offset(v: np.ndarray, f: np.ndarray, inner: np.ndarray, cross: np.ndarray,
                   live: np.ndarray, t: float, residual: np.ndarray) -> None:
-    """Raise :class:`ShellError` unless the offset surface is a valid inner body."""
+    """Raise `ShellError` unless the offset surface is a valid inner body."""
     tri = inner[f]
     inner_cross = cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     flipped = int(np.count_nonzero(np.einsum("ij,ij->i", inner_cross, cross)[live] <= 0))
@@ -333,7 +336,7 @@ def _winding_numbers(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
 
 
 def _distances(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """(q,) distance from each point ``p[i]`` to the triangle ``tri[i]``."""
+    """(q,) distance from each point `p[i]` to the triangle `tri[i]`."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     n = cross_rows(b - a, c - a)
     nn = np.einsum("ij,ij->i", n, n)

@@ -1,19 +1,19 @@
-"""Read an SDFormat document (``<sdf>``: models, or worlds holding models) into the model.
+"""Read an SDFormat document (`<sdf>`: models, or worlds holding models) into the model.
 
-Every ``<model>/<link>`` becomes a :class:`~urdfinertia.descriptions.model.Link` whose
-geometry and inertial poses are in the link frame (:mod:`.poses` resolves ``relative_to``
+Every `<model>/<link>` becomes a [`Link`][urdfinertia.descriptions.model.Link] whose
+geometry and inertial poses are in the link frame (`.poses` resolves `relative_to`
 chains). Names: with one top-level model, its links keep their names and links of nested
-models are scoped ``nested::link``; with several top-level models every name starts with
-its model's (``model::link``), as libsdformat scopes them. ``<include>``d models are not
+models are scoped `nested::link`; with several top-level models every name starts with
+its model's (`model::link`), as libsdformat scopes them. `<include>`d models are not
 followed: the robot's notes say so.
 
-Fault isolation: an element that cannot be read (unknown ``relative_to``, a bad number, a
+Fault isolation: an element that cannot be read (unknown `relative_to`, a bad number, a
 plane or heightmap, which have no volume) is dropped with a note on its link; an unreadable
-``<inertial>`` is reported and the link recomputed as if it had none. Only a document that
-is not XML, is hostile, or holds no ``<sdf>`` root stops the reading.
+`<inertial>` is reported and the link recomputed as if it had none. Only a document that
+is not XML, is hostile, or holds no `<sdf>` root stops the reading.
 
-Conventions (sdf/1.11/inertial.sdf): the inertial ``<pose>`` is the centre-of-mass frame C
-relative to the link frame; ``<inertia>`` is about Co along C's axes, with products of
+Conventions (sdf/1.11/inertial.sdf): the inertial `<pose>` is the centre-of-mass frame C
+relative to the link frame; `<inertia>` is about Co along C's axes, with products of
 inertia "-m x y (not +m x y)": URDF's convention, so values pass through unchanged.
 Omitted values take SDFormat's defaults (mass 1 kg, ixx = iyy = izz = 1 kg m^2).
 """
@@ -49,15 +49,15 @@ from urdfinertia.descriptions.urdf.read import _NUMBER, MAX_MAGNITUDE
 from urdfinertia.descriptions.xml import parse_document
 from urdfinertia.errors import UrdfError
 
-#: SDFormat 1.11's default density for automatic inertia, kg/m^3 (water).
 DEFAULT_DENSITY = 1000.0
+"""SDFormat 1.11's default density for automatic inertia, kg/m^3 (water)."""
 _PREFIX_USE = re.compile(rb"</?([A-Za-z_][\w.\-]*):[A-Za-z_]")
 _ROOT_TAG = re.compile(rb"<sdf\b")
-#: Geometry that has no volume (or none this tool computes): dropped with a note.
 _NO_VOLUME = {"plane": "a plane has no volume", "heightmap": "a heightmap is terrain",
               "image": "an extruded image is not supported", "polyline":
               "a polyline extrusion is not supported", "empty": "empty geometry",
               "cone": "a cone is not supported"}
+"""Geometry that has no volume (or none this tool computes): dropped with a note."""
 _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 _INERTIA_DEFAULTS = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, "izz": 1.0}
 
@@ -74,7 +74,7 @@ def _readable(data: bytes) -> bytes:
 
     An XML declaration after leading whitespace (TinyXML2 reads it) is blanked with spaces
     (it may only declare UTF-8 or ASCII: other encodings are refused below as usual), and
-    undeclared prefixes are declared (:func:`_declare_prefixes`). Line numbers are kept.
+    undeclared prefixes are declared (`_declare_prefixes`). Line numbers are kept.
     """
     late = _LATE_DECLARATION.match(data)
     if late and not re.search(rb"encoding\s*=\s*[\"'](?!utf-?8|us-ascii|ascii)",
@@ -84,10 +84,10 @@ def _readable(data: bytes) -> bytes:
 
 
 def _declare_prefixes(data: bytes) -> bytes:
-    """Declare namespace prefixes the document uses but never declares (``drake:``).
+    """Declare namespace prefixes the document uses but never declares (`drake:`).
 
     libsdformat and Drake read such documents (TinyXML has no namespaces); libxml2 refuses
-    them. Declarations are added inside the ``<sdf`` start tag, on its line, so that line
+    them. Declarations are added inside the `<sdf` start tag, on its line, so that line
     numbers stay those of the file; only the bytes given to lxml change, never the output.
     """
     used = set(_PREFIX_USE.findall(data)) - {b"xml", b"xmlns"}
@@ -104,8 +104,8 @@ class _Ctx:
     path: Path
     lenient: bool
     robot_notes: list[str] = field(default_factory=list)
-    #: what could not be read of the joints' motion (for statics only)
     joint_notes: list[str] = field(default_factory=list)
+    """What could not be read of the joints' motion (for statics only)"""
 
     def numbers(self, el: etree._Element, text: str, *, finite: bool = True
                 ) -> tuple[float, ...]:
@@ -262,7 +262,7 @@ def _build_scope(model_el: etree._Element, ctx: _Ctx, name: str) -> Scope:
 
 def _in_link(scope: Scope, link_pose: np.ndarray, t: np.ndarray, rel: str | None,
              ) -> np.ndarray:
-    """Pose ``t`` (relative to ``rel``, default: the link) in the link frame."""
+    """Pose `t` (relative to `rel`, default: the link) in the link frame."""
     if rel is None:
         return t
     found: np.ndarray = np.linalg.inv(link_pose) @ scope.in_model(rel) @ t
@@ -323,7 +323,7 @@ def _inertial(el: etree._Element, scope: Scope, link_pose: np.ndarray, ctx: _Ctx
 
 
 def _uses_density(link_el: etree._Element) -> bool:
-    """Whether any collision states a ``<density>``: then densities weigh the parts."""
+    """Whether any collision states a `<density>`: then densities weigh the parts."""
     return any(_child(c, "density") is not None for c in _children(link_el, "collision"))
 
 
@@ -426,7 +426,7 @@ def _joint(el: etree._Element, frames: _ModelFrames, poses: dict[str, np.ndarray
 
 
 def _version(text: str | None) -> tuple[int, ...]:
-    """``<sdf version="1.6">`` as (1, 6); the newest rules (1.11) when unreadable."""
+    """`<sdf version="1.6">` as (1, 6); the newest rules (1.11) when unreadable."""
     try:
         return tuple(int(p) for p in (text or "").strip().split("."))
     except ValueError:

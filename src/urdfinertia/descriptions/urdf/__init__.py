@@ -1,6 +1,6 @@
 """URDF: strict and lenient reading into the robot model, byte-splicing of inertials.
 
-Registers the ``urdf`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` when
+Registers the `urdf` `DescriptionFormat` when
 imported (the registry imports it on first use).
 """
 

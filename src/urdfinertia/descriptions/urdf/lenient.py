@@ -1,11 +1,11 @@
 """Inertials exactly as written, including values no simulator accepts.
 
-:func:`urdf_read.read_urdf` ignores an ``<inertial>`` holding non-finite numbers or absurd
-magnitudes (it recomputes it). A linter must instead judge a ``nan``, ``inf`` or a mass of
-``6e9`` (mm^3 taken as m^3) as a finding on its link, so :func:`read_urdf_lenient` reads
-the document the same way but lets such values through inside ``<inertial>`` (into
-:class:`urdf_model.Inertial`, which holds plain floats). Elements dropped and values
-ignored are in :attr:`Robot.problems`, as for ``fix``.
+`urdf_read.read_urdf` ignores an `<inertial>` holding non-finite numbers or absurd
+magnitudes (it recomputes it). A linter must instead judge a `nan`, `inf` or a mass of
+`6e9` (mm^3 taken as m^3) as a finding on its link, so `read_urdf_lenient` reads
+the document the same way but lets such values through inside `<inertial>` (into
+`urdf_model.Inertial`, which holds plain floats). Elements dropped and values
+ignored are in `Robot.problems`, as for `fix`.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 
 
 def read_urdf_lenient(path: str | Path) -> tuple[Robot, bytes]:
-    """Like :func:`urdf_read.read_urdf`, but non-finite inertial values are kept as NaN/inf."""
+    """Like `urdf_read.read_urdf`, but non-finite inertial values are kept as NaN/inf."""
     data = read_urdf_bytes(path)
     return robot_from_bytes_lenient(data, path), data
 

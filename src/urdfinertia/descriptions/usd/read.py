@@ -1,10 +1,10 @@
 """A composed USD stage read into the robot model.
 
-Links are the prims with ``PhysicsRigidBodyAPI`` (an articulation's links are such
+Links are the prims with `PhysicsRigidBodyAPI` (an articulation's links are such
 bodies), found through instances (instance proxies), references and payloads, every
-payload loaded. A body's geometry is every ``UsdGeom`` gprim below it that no nearer body
-owns: prims with ``PhysicsCollisionAPI`` are its collisions, the others its visuals.
-Joints are the ``UsdPhysics`` joints between two bodies. A body whose MassAPI does not
+payload loaded. A body's geometry is every `UsdGeom` gprim below it that no nearer body
+owns: prims with `PhysicsCollisionAPI` are its collisions, the others its visuals.
+Joints are the `UsdPhysics` joints between two bodies. A body whose MassAPI does not
 give both mass and inertia has no inertial in the model: the engine computes it from the
 collision shapes, which the link's notes state (as MJCF's implicit inertials are).
 """
@@ -23,8 +23,8 @@ from urdfinertia.descriptions.usd import geometry, mass
 from urdfinertia.descriptions.usd.frames import matrix_rpy, quat_matrix, to_numpy, vec3
 from urdfinertia.descriptions.usd.stage import Opened, open_stage
 
-#: UsdPhysics' default density where nothing gives one (kg/m^3, water)
 DEFAULT_DENSITY = 1000.0
+"""UsdPhysics' default density where nothing gives one (kg/m^3, water)"""
 _JOINT_TYPES = {
     "PhysicsRevoluteJoint": "revolute", "PhysicsPrismaticJoint": "prismatic",
     "PhysicsFixedJoint": "fixed", "PhysicsSphericalJoint": "ball",
@@ -50,9 +50,10 @@ class UsdRobot:
     newton: frozenset[str]  # links whose body has NewtonMassAPI applied
     meters_per_unit: float
     kilograms_per_unit: float
-    #: instance prims with bodies inside: opinions below an instance are ignored by
-    #: composition, so the override makes them not instanceable
     instances: tuple[str, ...] = ()
+    """Instance prims with bodies inside: opinions below an instance are ignored by composition, so
+    the override makes them not instanceable.
+    """
 
 
 def valid_identifier(name: str) -> str:
@@ -61,9 +62,10 @@ def valid_identifier(name: str) -> str:
     return "_" + out if not out or out[0].isdigit() else out
 
 
-#: the last asset read and the times of every layer it used: ``fix`` reads the model and
-#: then the override template of the same asset
 _LAST: list[tuple[tuple[str, bool], tuple[tuple[str, int], ...], UsdRobot]] = []
+"""The last asset read and the times of every layer it used: `fix` reads the model and then the
+override template of the same asset.
+"""
 
 
 def _stamps(paths: tuple[str, ...]) -> tuple[tuple[str, int], ...] | None:
@@ -74,9 +76,9 @@ def _stamps(paths: tuple[str, ...]) -> tuple[tuple[str, int], ...] | None:
 
 
 def read(path: Path, *, lenient: bool = False) -> UsdRobot:
-    """The robot of a USD asset. Strict (``fix``): a sublayer, reference or payload that
+    """The robot of a USD asset. Strict (`fix`): a sublayer, reference or payload that
     cannot be opened refuses the asset (its bodies would be read incomplete); lenient
-    (``check``): it is a problem of the document."""
+    (`check`): it is a problem of the document."""
     key = (str(path.resolve()), lenient)
     for k, stamps, found in _LAST:
         if k == key and _stamps(tuple(p for p, _ in stamps)) == stamps:
