@@ -57,6 +57,10 @@ def _inline(text: str) -> str:
                    for p in parts)
 
 
+def _lower_first(text: str) -> str:
+    return text[:1].lower() + text[1:]
+
+
 def rules_markdown() -> str:
     """The rules page: an index table, then one section per rule, every one anchored."""
     import urdfinertia.rules as registry
@@ -74,8 +78,9 @@ def rules_markdown() -> str:
         "from the rule registry (`urdfinertia.rules`) when the site is built; SARIF's",
         "`helpUri` of each rule points at its section here.",
         "",
-        "Severities: " + "; ".join(f"**{s.value}**: {_inline(severity_docs.get(s.name, ''))}"
-                                   for s in Severity),
+        "Severities: " + "; ".join(
+            f"**{s.value}**: {_inline(_lower_first(severity_docs.get(s.name, '')).rstrip('.'))}"
+            for s in Severity) + ".",
         "",
         "What `fix` does about a rule's findings (default options):",
         "",

@@ -254,3 +254,69 @@ def test_the_api_page_has_the_command_line_table(site):
         assert f"urdf-inertia {command}" in text
         assert (name if name.startswith("-") else name.upper()) in text, (command, name)
     assert 'recompute="all"' in text and "package_dirs" in text and "face_budget" in text
+
+
+SCREENSHOT_PAGES = ("index.html", "getting-started/index.html", "api/index.html",
+                    "rules/index.html")
+
+
+def _bench_report():
+    spec = importlib.util.spec_from_file_location("bench_report",
+                                                  ROOT / "scripts" / "bench_report.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["bench_report"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize("width", [1400, 800])
+def test_the_pages_in_chromium(site, width, tmp_path):
+    """The home, getting started, API and rules pages in headless Chromium at 1400 and 800
+    px: nothing loaded from the network, the page does not scroll sideways, and no code
+    block is wider than its box (console output fits or wraps; nothing is cut). The
+    screenshots are kept in ``$URDFINERTIA_SCREENSHOTS`` (else pytest's temporary folder,
+    printed) to be looked at."""
+    pytest.importorskip("selenium")
+    bench = _bench_report()
+    if not bench.install_chromium():
+        pytest.skip("chromium/chromedriver missing and scripts/install_chromium.sh failed")
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    keep = Path(os.environ.get("URDFINERTIA_SCREENSHOTS", tmp_path))
+    keep.mkdir(parents=True, exist_ok=True)
+    options = webdriver.ChromeOptions()
+    options.binary_location = bench.CHROMIUM
+    for flag in bench.CHROMIUM_FLAGS:
+        if not flag.startswith("--window-size"):
+            options.add_argument(flag)
+    options.add_argument(f"--user-data-dir={tmp_path / 'profile'}")
+    options.set_capability("goog:loggingPrefs", {"performance": "ALL"})
+    driver = webdriver.Chrome(options=options, service=Service(bench.CHROMEDRIVER))
+    problems = []
+    try:
+        driver.set_window_size(width, 1000)
+        for page in SCREENSHOT_PAGES:
+            driver.get((site / page).as_uri())
+            state = driver.execute_script("""
+                const blocks = [...document.querySelectorAll('.md-typeset pre > code')];
+                return {sideways: document.documentElement.scrollWidth - window.innerWidth,
+                        blocks: blocks.length,
+                        cut: blocks.filter(c => c.scrollWidth > c.clientWidth + 1)
+                                   .map(c => c.textContent.slice(0, 60))};""")
+            shot = keep / f"{page.split('/')[0].removesuffix('.html')}-{width}.png"
+            driver.save_screenshot(str(shot))
+            print(f"{page} at {width} px: {shot}")
+            if state["sideways"] > 0:
+                problems.append(f"{page}: scrolls {state['sideways']} px sideways")
+            if state["cut"]:
+                problems.append(f"{page}: code blocks wider than their box: {state['cut']}")
+        requests = [json.loads(e["message"])["message"]["params"]["request"]["url"]
+                    for e in driver.get_log("performance")
+                    if json.loads(e["message"])["message"].get("method")
+                    == "Network.requestWillBeSent"]
+    finally:
+        driver.quit()
+    remote = [u for u in requests if _REMOTE.match(u)]
+    assert not remote, remote
+    assert not problems, "\n".join(problems)
