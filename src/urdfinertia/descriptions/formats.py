@@ -133,6 +133,13 @@ def register_format(fmt: DescriptionFormat) -> None:
 
 
 def registered_formats() -> tuple[DescriptionFormat, ...]:
+    """Every registered format, the built-in ones loaded first.
+
+    Returns
+    -------
+    tuple of DescriptionFormat
+        In registration order.
+    """
     _load_builtin()
     return tuple(_FORMATS.values())
 
@@ -185,8 +192,23 @@ def relocate_references(data: bytes, path: Path, output: Path) -> tuple[bytes, i
 
 
 def read_bytes(path: str | Path) -> bytes:
-    """A description's bytes (at most one past the size limit), or a
-    [`UrdfError`][urdfinertia.descriptions.formats.UrdfError]."""
+    """A description's bytes, at most one past the size limit.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    bytes
+        Its contents (one byte more than the limit tells that it is exceeded).
+
+    Raises
+    ------
+    UrdfError
+        When the file cannot be read.
+    """
     from urdfinertia.descriptions import xml
 
     path = Path(path)
@@ -198,18 +220,55 @@ def read_bytes(path: str | Path) -> bytes:
 
 
 def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) -> Robot:
-    """The robot model of a description's bytes, in whatever registered format it is."""
+    """The robot model of a description's bytes, in whatever registered format it is.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : str or Path
+        Where it was read from (relative references resolve from its folder).
+    lenient : bool
+        Keep non-finite values for the linters instead of refusing them.
+
+    Returns
+    -------
+    Robot
+        The robot model.
+    """
     path = Path(path)
     fmt = detect_format(data, path)
     return (fmt.read_lenient if lenient else fmt.read)(data, path)
 
 
 def read_description(path: str | Path, *, lenient: bool = False) -> tuple[Robot, bytes]:
-    """Read a description file: its robot model and its original bytes.
+    """Read a description file of any registered format: its robot model and its bytes.
 
-    `lenient`: keep non-finite inertial values (as NaN/inf) for `check` and `compare`
-    instead of refusing the file. The bytes are the document the robot was read from: for
-    a generating format (xacro) the expansion, which `patch` edits.
+    The format is told by the root element, then by the suffix (URDF, xacro, SDFormat,
+    MJCF, USD). xacro input is expanded with the arguments and package folders of the
+    current settings (`urdfinertia.fix(..., xacro_args=...)` sets them for a call).
+
+    Parameters
+    ----------
+    path : str or Path
+        The description file.
+    lenient : bool
+        Keep non-finite inertial values (as NaN/inf) for `check` and `compare` instead of
+        refusing the file.
+
+    Returns
+    -------
+    robot : Robot
+        Links (inertials, collisions, visuals), joints, and what was read past.
+    data : bytes
+        The document the robot was read from: for a generating format (xacro) the
+        expansion, which `patch` edits.
+
+    Raises
+    ------
+    UrdfError
+        When the file cannot be read or is not a description at all (a problem inside
+        one element is recorded in `robot.problems` instead).
     """
     data = read_bytes(path)
     fmt = detect_format(data, Path(path))

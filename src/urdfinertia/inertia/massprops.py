@@ -29,6 +29,18 @@ def point_mass_inertia(mass: float, offset: ArrayLike) -> np.ndarray:
     """Inertia of a point mass at `offset` about the origin: `m (|r|^2 E - r r^T)`.
 
     This is the Huygens-Steiner term of eq. 43.
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    offset : (3,) float
+        Where the mass is, m.
+
+    Returns
+    -------
+    (3, 3) float
+        Its inertia about the origin, kg m^2, URDF sign convention.
     """
     r = np.asarray(offset, dtype=np.float64)
     term: np.ndarray = mass * (np.dot(r, r) * _EYE - np.outer(r, r))
@@ -114,14 +126,37 @@ class MassProperties:
     # --- named constructors -------------------------------------------------------
     @classmethod
     def zero(cls) -> MassProperties:
-        """The empty body (neutral element of `+`)."""
+        """The empty body, the neutral element of `+`.
+
+        Returns
+        -------
+        MassProperties
+            Zero mass, CoM at the origin, zero tensor.
+        """
         return cls(0.0, np.zeros(3), np.zeros((3, 3)))
 
     @classmethod
     def from_inertia_about_point(
         cls, mass: float, com: ArrayLike, inertia: ArrayLike, point: ArrayLike
     ) -> MassProperties:
-        """Build from an inertia given about `point` (inverse of `about`)."""
+        """A body from an inertia given about `point` (the inverse of `about`).
+
+        Parameters
+        ----------
+        mass : float
+            kg.
+        com : (3,) float
+            The centre of mass in F, m.
+        inertia : (3, 3) float
+            The inertia about `point` along F's axes, kg m^2.
+        point : (3,) float
+            The point `inertia` is given about, m.
+
+        Returns
+        -------
+        MassProperties
+            The body, its inertia moved to the CoM (Huygens-Steiner).
+        """
         com = np.asarray(com, dtype=np.float64)
         shift = point_mass_inertia(mass, com - np.asarray(point, dtype=np.float64))
         return cls(mass, com, np.asarray(inertia, dtype=np.float64) - shift)
@@ -132,18 +167,60 @@ class MassProperties:
 
         Equivalently: the same body expressed in a parent frame whose axes relate to F's
         by `r_parent = A r_F` (eqs. 23-26).
+
+        Parameters
+        ----------
+        rotation : (3, 3) float
+            A proper rotation matrix `A`.
+
+        Returns
+        -------
+        MassProperties
+            The rotated body.
+
+        Raises
+        ------
+        ValueError
+            When `rotation` is not a proper rotation.
         """
         a = _rotation(rotation)
         return MassProperties._derived(self.mass, a @ self.com, a @ self.inertia @ a.T)
 
     def translated(self, offset: ArrayLike) -> MassProperties:
-        """The body moved by `offset`; its central inertia is unchanged."""
+        """The body moved by `offset`; its central inertia is unchanged.
+
+        Parameters
+        ----------
+        offset : (3,) float
+            The translation, m.
+
+        Returns
+        -------
+        MassProperties
+            The moved body.
+        """
         return MassProperties._derived(self.mass,
                                      self.com + np.asarray(offset, dtype=np.float64),
                                      self.inertia)
 
     def transformed(self, transform: ArrayLike) -> MassProperties:
-        """Apply a rigid (4, 4) transform: rotate about F's origin, then translate."""
+        """The body under a rigid transform: rotated about F's origin, then translated.
+
+        Parameters
+        ----------
+        transform : (4, 4) float
+            A homogeneous transform (rotation and translation, m).
+
+        Returns
+        -------
+        MassProperties
+            The transformed body.
+
+        Raises
+        ------
+        ValueError
+            When `transform` is not (4, 4) or its rotation part not a proper rotation.
+        """
         t = np.asarray(transform, dtype=np.float64)
         if t.shape != (4, 4):
             raise ValueError(f"transform must have shape (4, 4), got {t.shape}")
@@ -155,7 +232,18 @@ class MassProperties:
         return MassProperties._derived(self.mass, a @ self.com + t[:3, 3], inertia)
 
     def about(self, point: ArrayLike) -> np.ndarray:
-        """Inertia tensor about `point` along F's axes (Huygens-Steiner, eq. 43)."""
+        """The inertia tensor about `point` along F's axes (Huygens-Steiner, eq. 43).
+
+        Parameters
+        ----------
+        point : (3,) float
+            The reference point in F, m.
+
+        Returns
+        -------
+        (3, 3) float
+            The inertia about `point`, kg m^2.
+        """
         moved: np.ndarray = self.inertia + point_mass_inertia(
             self.mass, self.com - np.asarray(point, dtype=np.float64)
         )
@@ -168,11 +256,33 @@ class MassProperties:
         return combine([self, other])
 
     def negated(self) -> MassProperties:
-        """The same shape as a cavity: negative mass and inertia (removed material)."""
+        """The same shape as a cavity: negative mass and inertia (removed material).
+
+        Returns
+        -------
+        MassProperties
+            The body with mass and tensor negated; adding it to a solid subtracts it.
+        """
         return MassProperties(-self.mass, self.com, -self.inertia)
 
     def with_mass(self, mass: float) -> MassProperties:
-        """The same geometry with its density scaled so that the mass is `mass`."""
+        """The same geometry with its density scaled so that the mass is `mass`.
+
+        Parameters
+        ----------
+        mass : float
+            The new mass, kg.
+
+        Returns
+        -------
+        MassProperties
+            The same CoM, the tensor scaled by `mass / self.mass`.
+
+        Raises
+        ------
+        ValueError
+            When this body's mass is zero.
+        """
         if self.mass == 0:
             raise ValueError("cannot rescale a body of zero mass")
         k = float(mass) / self.mass
@@ -180,15 +290,29 @@ class MassProperties:
 
     # --- analysis --------------------------------------------------------------------
     def principal(self) -> tuple[np.ndarray, np.ndarray]:
-        """Principal moments (ascending) and axes (columns, right-handed)."""
+        """The principal moments and axes of the central inertia.
+
+        Returns
+        -------
+        moments : (3,) float
+            Ascending, kg m^2.
+        axes : (3, 3) float
+            The principal axes as columns, right-handed, in F.
+        """
         moments, axes = np.linalg.eigh(self.inertia)
         if np.linalg.det(axes) < 0:
             axes[:, 2] *= -1
         return moments, axes
 
     def is_physical(self) -> bool:
-        """True when mass > 0 and the tensor is valid
-        ([`validity.is_valid_tensor`][urdfinertia.inertia.validity.is_valid_tensor])."""
+        """Whether a positive mass has this tensor.
+
+        Returns
+        -------
+        bool
+            True when mass > 0 and the tensor is valid
+            ([`is_valid_tensor`][urdfinertia.inertia.validity.is_valid_tensor]).
+        """
         return self.mass > 0 and is_valid_tensor(self.inertia)
 
     def __repr__(self) -> str:
@@ -200,8 +324,22 @@ class MassProperties:
 def combine(bodies: Iterable[MassProperties]) -> MassProperties:
     """Sum of bodies about their common centre of mass (eqs. 3, 43-44).
 
-    Cavities (negative mass) subtract. The total mass must not be zero unless every
-    body is empty.
+    Cavities (negative mass) subtract.
+
+    Parameters
+    ----------
+    bodies : iterable of MassProperties
+        The bodies, all expressed in the same frame.
+
+    Returns
+    -------
+    MassProperties
+        Their sum: total mass, common CoM, inertia about it (the empty body for none).
+
+    Raises
+    ------
+    ValueError
+        When the masses sum to zero and not every body is empty.
     """
     items = list(bodies)
     if not items:

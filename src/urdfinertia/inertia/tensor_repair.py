@@ -54,6 +54,17 @@ def repair_tensor(inertia: ArrayLike) -> TensorRepair:
     The input is first replaced by its symmetric part (the nearest symmetric matrix in the
     Frobenius norm). Axes are kept; no moment decreases.
 
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        The tensor as written, kg m^2.
+
+    Returns
+    -------
+    TensorRepair
+        The repaired tensor, the principal moments before and after, and the steps taken
+        (none when the input was valid).
+
     Raises
     ------
     ValueError

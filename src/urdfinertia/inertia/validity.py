@@ -37,6 +37,23 @@ PLACEHOLDER_TINY = 1e-6
 
 
 def as_tensor(inertia: ArrayLike) -> np.ndarray:
+    """`inertia` as a float (3, 3) array.
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        An inertia tensor.
+
+    Returns
+    -------
+    (3, 3) float
+        The same values, as float64.
+
+    Raises
+    ------
+    ValueError
+        When the shape is not (3, 3).
+    """
     t = np.asarray(inertia, dtype=np.float64)
     if t.shape != (3, 3):
         raise ValueError(f"inertia must have shape (3, 3), got {t.shape}")
@@ -70,27 +87,48 @@ class TensorDiagnosis:
 
     @property
     def symmetric(self) -> bool:
+        """Finite and symmetric up to `SYMMETRY_RTOL`."""
         return self.finite and self.asymmetry <= SYMMETRY_RTOL
 
     @property
     def zero(self) -> bool:
+        """Finite and every principal moment exactly zero."""
         return self.finite and bool(np.all(self.moments == 0))
 
     @property
     def positive_definite(self) -> bool:
+        """Finite and the smallest principal moment positive."""
         return self.finite and bool(self.moments[0] > 0)
 
     @property
     def triangle_ok(self) -> bool:
+        """Finite and `A + B >= C` up to `TRIANGLE_RTOL`."""
         return self.finite and not self.triangle_excess > TRIANGLE_RTOL
 
     @property
     def valid(self) -> bool:
+        """Symmetric, positive definite and `A + B >= C`: a body has it."""
         return self.symmetric and self.positive_definite and self.triangle_ok
 
 
 def diagnose_tensor(inertia: ArrayLike) -> TensorDiagnosis:
-    """Principal moments, symmetry and triangle-inequality margin of `inertia`."""
+    """The principal moments, symmetry and triangle-inequality margin of `inertia`.
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        An inertia tensor, kg m^2.
+
+    Returns
+    -------
+    TensorDiagnosis
+        What is wrong with it, if anything (`.valid` says whether anything is).
+
+    Raises
+    ------
+    ValueError
+        When the shape is not (3, 3).
+    """
     t = as_tensor(inertia)
     if not np.all(np.isfinite(t)):
         nan3 = np.full(3, np.nan)
@@ -110,6 +148,16 @@ def is_placeholder(inertia: ArrayLike) -> bool:
     Exporters and hand-written URDFs use these when no value is known; they are almost never
     a body's real inertia. Equal tiny moments that are not a round power of ten are left
     alone: a small sphere has them (allegro's finger tips: 9.68e-07 = 2/5 m r^2).
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        An inertia tensor as written, kg m^2.
+
+    Returns
+    -------
+    bool
+        Whether it is one of those literal placeholders.
     """
     t = as_tensor(inertia)
     if not np.all(np.isfinite(t)):
@@ -127,5 +175,17 @@ def is_placeholder(inertia: ArrayLike) -> bool:
 
 
 def is_valid_tensor(inertia: ArrayLike) -> bool:
-    """Symmetric, positive definite and `A + B >= C` up to round-off (module doc)."""
+    """Whether a body can have `inertia`: symmetric, positive definite and `A + B >= C`,
+    up to round-off (the tolerances above).
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        An inertia tensor, kg m^2.
+
+    Returns
+    -------
+    bool
+        True when it is valid.
+    """
     return diagnose_tensor(inertia).valid
