@@ -67,15 +67,33 @@ class Ellipsoid:
 
     @property
     def volume(self) -> float:
+        """m^3."""
         return float(4.0 / 3.0 * np.pi * np.prod(self.semi_axes))
 
     def radii_squared(self, points: ArrayLike) -> np.ndarray:
-        """(n,) `(x - centre)^T shape (x - centre)` of each point (<= 1 inside)."""
+        """`(x - centre)^T shape (x - centre)` of each point: <= 1 inside.
+
+        Parameters
+        ----------
+        points : (n, 3) float
+            m.
+
+        Returns
+        -------
+        (n,) float
+            Each point's squared ellipsoidal radius.
+        """
         d = np.asarray(points, dtype=np.float64).reshape(-1, 3) - self.centre
         return np.asarray(np.einsum("ij,jk,ik->i", d, self.shape, d))
 
     def quadric(self) -> np.ndarray:
-        """(4, 4) `Q` with `[x; 1]^T Q [x; 1] = 1 - (x - e)^T A (x - e)` (>= 0 inside)."""
+        """The quadric `Q` of the ellipsoid.
+
+        Returns
+        -------
+        (4, 4) float
+            `Q` with `[x; 1]^T Q [x; 1] = 1 - (x - e)^T A (x - e)` (>= 0 inside).
+        """
         a, e = self.shape, self.centre
         q = np.empty((4, 4))
         q[:3, :3] = -a
@@ -115,8 +133,20 @@ def pseudo_inertia(mass: float, com: ArrayLike, inertia: ArrayLike) -> np.ndarra
 
 
 def central_second_moment(inertia: ArrayLike) -> np.ndarray:
-    """(3, 3) `integral (x - c)(x - c)^T dm` from the inertia about the CoM `I_c`:
-    `tr(I_c)/2 E - I_c`. Positive semi-definite iff the triangle inequality holds."""
+    """The central second moment `integral (x - c)(x - c)^T dm` from the inertia about the
+    CoM `I_c`: `tr(I_c)/2 E - I_c`. Positive semi-definite iff the triangle inequality
+    holds.
+
+    Parameters
+    ----------
+    inertia : (3, 3) float
+        About the CoM, kg m^2.
+
+    Returns
+    -------
+    (3, 3) float
+        kg m^2.
+    """
     i_c = np.asarray(inertia, dtype=np.float64).reshape(3, 3)
     i_c = 0.5 * (i_c + i_c.T)
     return np.asarray(0.5 * np.trace(i_c) * np.eye(3) - i_c)
@@ -129,8 +159,24 @@ def ellipsoid_scale(mass: float, com: ArrayLike, inertia: ArrayLike,
     `sqrt(mean((x - e)^T A (x - e)))` over the mass: <= 1 means a nonnegative density
     inside the ellipsoid has exactly these mass properties (the LMI `tr(J Q) >= 0` of
     Wensing et al. 2017, Theorem 1, with `J` semi-definite); > 1 means none has, however
-    the mass is spread. `inf` when no nonnegative density anywhere has them (`mass <= 0`
-    or the triangle inequality broken beyond round-off).
+    the mass is spread.
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    com : (3,) float
+        The centre of mass, m.
+    inertia : (3, 3) float
+        About the CoM along the frame's axes, kg m^2.
+    ellipsoid : Ellipsoid
+        The region the mass is to lie in.
+
+    Returns
+    -------
+    float
+        The scale; `inf` when no nonnegative density anywhere has these values
+        (`mass <= 0` or the triangle inequality broken beyond round-off).
     """
     c = np.asarray(com, dtype=np.float64).reshape(3)
     sigma = central_second_moment(inertia)
@@ -146,7 +192,25 @@ def ellipsoid_scale(mass: float, com: ArrayLike, inertia: ArrayLike,
 
 def realizable_in(mass: float, com: ArrayLike, inertia: ArrayLike,
                   ellipsoid: Ellipsoid) -> bool:
-    """The LMI test itself: `J >= 0` and `tr(J Q) >= 0` (up to `SCALE_RTOL`)."""
+    """Whether a nonnegative density inside `ellipsoid` has these mass properties: the LMI
+    test `J >= 0` and `tr(J Q) >= 0` (up to `SCALE_RTOL`).
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    com : (3,) float
+        The centre of mass, m.
+    inertia : (3, 3) float
+        About the CoM along the frame's axes, kg m^2.
+    ellipsoid : Ellipsoid
+        The region the mass is to lie in.
+
+    Returns
+    -------
+    bool
+        True when some mass inside the ellipsoid has them.
+    """
     return ellipsoid_scale(mass, com, inertia, ellipsoid) <= 1.0 + SCALE_RTOL
 
 
@@ -161,7 +225,23 @@ def bounding_ellipsoid(points: ArrayLike, tol: float = 1e-2) -> Ellipsoid:
     encloses them.
     Points spanning less than three dimensions (a flat plate, a segment) are padded by
     `1e-9` of their extent in the missing directions, so the ellipsoid exists.
-    Raises `ValueError` for no points or non-finite ones.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        m.
+    tol : float
+        The relative optimality at which the iteration stops.
+
+    Returns
+    -------
+    Ellipsoid
+        An ellipsoid holding every point.
+
+    Raises
+    ------
+    ValueError
+        For no points or non-finite ones.
     """
     mean, centred = centred_points(points)
     centre, shape = _khachiyan(centred, tol)
@@ -176,9 +256,25 @@ def _radii2(points: np.ndarray, centre: np.ndarray, shape: np.ndarray) -> np.nda
 
 
 def centred_points(points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """The mean of `points` ((n, 3), m) and the points about it, padded to span three
-    dimensions (`full_dimensional`). Raises `ValueError` for no points or
-    non-finite ones."""
+    """The mean of `points` and the points about it, padded to span three dimensions.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        m.
+
+    Returns
+    -------
+    mean : (3,) float
+        Their mean, m.
+    centred : (k, 3) float
+        The points about it, with `full_dimensional`'s padding.
+
+    Raises
+    ------
+    ValueError
+        For no points or non-finite ones.
+    """
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     if p.shape[0] == 0 or not np.all(np.isfinite(p)):
         raise ValueError(f"need finite (n, 3) points, got shape {p.shape}")
@@ -187,8 +283,19 @@ def centred_points(points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
 
 
 def full_dimensional(centred: np.ndarray) -> np.ndarray:
-    """`centred` (points about their mean) plus points `1e-9` of their extent off their
-    span when they span fewer than three dimensions: a set with a full-dimensional hull."""
+    """Points padded to a set with a full-dimensional hull.
+
+    Parameters
+    ----------
+    centred : (n, 3) float
+        Points about their mean, m.
+
+    Returns
+    -------
+    (k, 3) float
+        `centred`, plus points `1e-9` of their extent off their span when they span fewer
+        than three dimensions.
+    """
     extent = max(float(np.abs(centred).max()), 1e-12)
     eig, vec = np.linalg.eigh(centred.T @ centred)  # the spread along each direction
     thin = extent * 1e-9

@@ -13,19 +13,52 @@ from numpy.typing import ArrayLike
 
 
 def rot_x(angle: float) -> np.ndarray:
-    """Elementary rotation about x by `angle` rad (A_gamma of eq. 16)."""
+    """The elementary rotation about x (A_gamma of eq. 16).
+
+    Parameters
+    ----------
+    angle : float
+        rad, right-handed.
+
+    Returns
+    -------
+    (3, 3) float
+        The rotation matrix.
+    """
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
 def rot_y(angle: float) -> np.ndarray:
-    """Elementary rotation about y by `angle` rad (A_alpha of eq. 16)."""
+    """The elementary rotation about y (A_alpha of eq. 16).
+
+    Parameters
+    ----------
+    angle : float
+        rad, right-handed.
+
+    Returns
+    -------
+    (3, 3) float
+        The rotation matrix.
+    """
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def rot_z(angle: float) -> np.ndarray:
-    """Elementary rotation about z by `angle` rad (A_delta of eq. 16)."""
+    """The elementary rotation about z (A_delta of eq. 16).
+
+    Parameters
+    ----------
+    angle : float
+        rad, right-handed.
+
+    Returns
+    -------
+    (3, 3) float
+        The rotation matrix.
+    """
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
@@ -50,7 +83,20 @@ def rpy_matrix(rpy: ArrayLike) -> np.ndarray:
 
 
 def pose_matrix(xyz: ArrayLike, rpy: ArrayLike) -> np.ndarray:
-    """Homogeneous (4, 4) transform of a URDF `<origin xyz=".." rpy=".."/>`."""
+    """The homogeneous transform of a URDF `<origin xyz=".." rpy=".."/>`.
+
+    Parameters
+    ----------
+    xyz : (3,) float
+        The translation, m.
+    rpy : (3,) float
+        Roll, pitch, yaw, rad (see `rpy_matrix`).
+
+    Returns
+    -------
+    (4, 4) float
+        The child frame's pose in the parent frame.
+    """
     t = np.eye(4)
     t[:3, :3] = rpy_matrix(rpy)
     t[:3, 3] = _vector3(xyz, "xyz")

@@ -81,8 +81,23 @@ class Shell:
     method: str
 
     def filled(self, weight: float) -> MassProperties:
-        """Unit-density mass properties of the wall plus the interior at `weight` times
-        the wall's density (0: hollow, 1: solid)."""
+        """The wall plus the interior at `weight` times the wall's density.
+
+        Parameters
+        ----------
+        weight : float
+            The infill: 0 hollow, 1 solid.
+
+        Returns
+        -------
+        MassProperties
+            At unit density of the wall.
+
+        Raises
+        ------
+        ValueError
+            When `weight` is negative or not finite.
+        """
         if not (math.isfinite(weight) and weight >= 0):
             raise ValueError(f"infill weight must be >= 0 and finite, got {weight!r}")
         (v0, f0, s0), (v1, f1, s1) = self.wall, self.interior
@@ -91,8 +106,19 @@ class Shell:
 
 
 def moments_of(body: MassProperties) -> Moments:
-    """`(volume, first, second)` of a unit-density body (inverse of
-    [`mass_properties_from_integrals`][urdfinertia.inertia.polyhedron.mass_properties_from_integrals])."""
+    """The volume integrals of a unit-density body (the inverse of
+    [`mass_properties_from_integrals`][urdfinertia.inertia.polyhedron.mass_properties_from_integrals]).
+
+    Parameters
+    ----------
+    body : MassProperties
+        At unit density.
+
+    Returns
+    -------
+    (float, (3,) float, (3, 3) float)
+        `(volume, integral(x dV), integral(x x^T dV))` about the origin.
+    """
     m, c = body.mass, body.com
     cov = 0.5 * np.trace(body.inertia) * _EYE - body.inertia  # central integral(x x^T)
     return m, m * c, cov + m * np.outer(c, c)
@@ -117,7 +143,25 @@ def _too_thick(t: float, limit: float, what: str) -> ShellError:
 # --- primitives -------------------------------------------------------------------------
 
 def box_shell(size: ArrayLike, t: float) -> Shell:
-    """Box of full sides `size`: the interior is the box `size - 2 t`."""
+    """A box's shell: the interior is the box `size - 2 t`.
+
+    Parameters
+    ----------
+    size : (3,) float
+        The full side lengths, m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     s = np.asarray(size, dtype=np.float64)
     if not s.min() > 2 * t:
@@ -127,6 +171,25 @@ def box_shell(size: ArrayLike, t: float) -> Shell:
 
 
 def sphere_shell(radius: float, t: float) -> Shell:
+    """A sphere's shell: the interior is the sphere of radius `radius - t`.
+
+    Parameters
+    ----------
+    radius : float
+        m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     if not radius > t:
         raise _too_thick(t, radius, "the radius")
@@ -135,7 +198,27 @@ def sphere_shell(radius: float, t: float) -> Shell:
 
 
 def cylinder_shell(radius: float, length: float, t: float) -> Shell:
-    """Closed cylinder: walls and both end caps `t` thick."""
+    """A closed cylinder's shell: walls and both end caps `t` thick.
+
+    Parameters
+    ----------
+    radius : float
+        m.
+    length : float
+        The full length along z, m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     if not (radius > t and length > 2 * t):
         raise _too_thick(t, min(radius, length / 2), "the radius or half the length")
@@ -145,7 +228,27 @@ def cylinder_shell(radius: float, length: float, t: float) -> Shell:
 
 
 def capsule_shell(radius: float, length: float, t: float) -> Shell:
-    """A capsule's inner body is the capsule of radius `r - t` on the same segment."""
+    """A capsule's shell: the inner body is the capsule of radius `r - t` on the same segment.
+
+    Parameters
+    ----------
+    radius : float
+        m.
+    length : float
+        The cylindrical section's length, m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     if not radius > t:
         raise _too_thick(t, radius, "the radius")
@@ -155,8 +258,29 @@ def capsule_shell(radius: float, length: float, t: float) -> Shell:
 
 
 def cone_shell(radius: float, height: float, t: float) -> Shell:
-    """Cone as [`cone`][urdfinertia.inertia.primitives.cone]: the inner body is a cone of
-    the same half-angle `a`, base raised by `t`, apex lowered by `t / sin a`."""
+    """A cone's shell, the cone as [`cone`][urdfinertia.inertia.primitives.cone]: the inner
+    body is a cone of the same half-angle `a`, base raised by `t`, apex lowered by
+    `t / sin a`.
+
+    Parameters
+    ----------
+    radius : float
+        The base's radius, m.
+    height : float
+        m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     sin_a = radius / math.hypot(radius, height)
     inner_h = height - t - t / sin_a
@@ -170,7 +294,27 @@ def cone_shell(radius: float, height: float, t: float) -> Shell:
 
 def ellipsoid_shell(radii: ArrayLike, t: float,
                     nodes: tuple[int, int] = _ELLIPSOID_NODES) -> Shell:
-    """Ellipsoid of semi-axes `radii`: the wall as a tube integral (module docstring)."""
+    """An ellipsoid's shell: the wall as a tube integral (module docstring).
+
+    Parameters
+    ----------
+    radii : (3,) float
+        The semi-axes, m.
+    t : float
+        The wall thickness, m.
+    nodes : (int, int)
+        The quadrature's nodes along the two surface parameters.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     a, b, c = (float(r) for r in np.asarray(radii, dtype=np.float64))
     reach = min(a, b, c) ** 2 / max(a, b, c)
@@ -218,9 +362,16 @@ def mesh_shell(vertices: ArrayLike, faces: ArrayLike, t: float) -> Shell:
     Parameters
     ----------
     vertices : (n, 3) float
+        m.
     faces : (m, 3) int
+        Vertex indices, counter-clockwise seen from outside.
     t : float
         Wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
 
     Raises
     ------
