@@ -49,7 +49,22 @@ class UrdfInertiaError(Exception):
     def with_context(
         self, *, file: str | Path | None = None, line: int | None = None, link: str | None = None
     ) -> UrdfInertiaError:
-        """Fill in context the raiser did not know (never overwrites what is set)."""
+        """Fill in context the raiser did not know (never overwrites what is set).
+
+        Parameters
+        ----------
+        file : str or Path, optional
+            The file the error is about.
+        line : int, optional
+            Its line.
+        link : str, optional
+            The link it is about.
+
+        Returns
+        -------
+        UrdfInertiaError
+            This error, for `raise exc.with_context(...)`.
+        """
         if self.file is None and file is not None:
             self.file = str(file)
         if self.line is None and line is not None:

@@ -61,7 +61,18 @@ properties, size) for one whose every value was derived.
 
 
 def new_inertial(value: NewInertial | tuple[MassProperties, float]) -> NewInertial:
-    """`value` as a `NewInertial` (a pair: every value derived)."""
+    """`value` as a `NewInertial`.
+
+    Parameters
+    ----------
+    value : NewInertial or (MassProperties, float)
+        A new inertial, or a pair (mass properties, size): every value derived.
+
+    Returns
+    -------
+    NewInertial
+        The new inertial.
+    """
     if isinstance(value, NewInertial):
         return value
     props, size = value
@@ -128,7 +139,13 @@ _ROOT = re.compile(rb"<([A-Za-z_][\w.\-]*:)?([A-Za-z_][\w.\-]*)")
 
 
 def register_format(fmt: DescriptionFormat) -> None:
-    """Add `fmt`; a later registration of the same name replaces the earlier one."""
+    """Add `fmt`; a later registration of the same name replaces the earlier one.
+
+    Parameters
+    ----------
+    fmt : DescriptionFormat
+        The format.
+    """
     _FORMATS[fmt.name] = fmt
 
 
@@ -150,13 +167,35 @@ def _load_builtin() -> None:
 
 
 def format_of(robot: Robot) -> DescriptionFormat:
-    """The format that read `robot` (and so writes its inertials)."""
+    """The format that read `robot` (and so writes its inertials).
+
+    Parameters
+    ----------
+    robot : Robot
+        A robot model read by a registered format.
+
+    Returns
+    -------
+    DescriptionFormat
+        Its format.
+    """
     _load_builtin()
     return _FORMATS[robot.format]
 
 
 def root_name(data: bytes) -> str | None:
-    """Local name of the document's root element, without parsing the document."""
+    """The local name of the document's root element, without parsing the document.
+
+    Parameters
+    ----------
+    data : bytes
+        The document (its first bytes are enough).
+
+    Returns
+    -------
+    str or None
+        "robot", "sdf", "mujoco" ...; None when no element starts the document.
+    """
     head = data[:_SNIFF_BYTES]
     prolog = _PROLOG.match(head)
     found = _ROOT.match(head, prolog.end() if prolog else 0)
@@ -164,7 +203,20 @@ def root_name(data: bytes) -> str | None:
 
 
 def detect_format(data: bytes, path: Path) -> DescriptionFormat:
-    """The registered format of a document: its root element, then its suffix."""
+    """The registered format of a document: by its root element, then its suffix.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : Path
+        Its file name (for the suffix).
+
+    Returns
+    -------
+    DescriptionFormat
+        The format; URDF when nothing decides (its reader names what is wrong).
+    """
     _load_builtin()
     root = root_name(data)
     by_root = [f for f in _FORMATS.values() if root in f.roots]
@@ -182,9 +234,23 @@ def detect_format(data: bytes, path: Path) -> DescriptionFormat:
 
 
 def relocate_references(data: bytes, path: Path, output: Path) -> tuple[bytes, int]:
-    """`data` (a document read from `path`) made to work when written at `output`:
-    its format's relative references rewritten (URDF meshes; MJCF compiler folders and
-    includes; SDFormat URIs); and how many were."""
+    """`data` (a document read from `path`) made to work when written at `output`.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : Path
+        Where it was read from.
+    output : Path
+        Where it is to be written.
+
+    Returns
+    -------
+    (bytes, int)
+        The document with its format's relative references rewritten (URDF meshes; MJCF
+        compiler folders and includes; SDFormat URIs), and how many were.
+    """
     fmt = detect_format(data, path)
     if fmt.relocate is None:
         return data, 0
@@ -282,6 +348,18 @@ def is_description(data: bytes, path: str | Path) -> bool:
     For callers handed every `*.xml` (or `*.xacro`, `*.sdf`) of a repository, such as
     the pre-commit hook: a ROS `package.xml` or a launch file is not a description, and a
     format that is not registered yet is not read as URDF.
+
+    Parameters
+    ----------
+    data : bytes
+        The file's contents.
+    path : str or Path
+        Its name.
+
+    Returns
+    -------
+    bool
+        Whether it is a description some format reads.
     """
     _load_builtin()
     suffix = Path(path).suffix.lower()

@@ -255,7 +255,20 @@ def _entries(t: np.ndarray) -> np.ndarray:
 
 def decimal_shift(x: np.ndarray | float, k: int) -> np.ndarray:
     """`x` x 10^k as the decimal shift of its shortest text (1.05 x 1e-3 is 0.00105, not
-    0.0010500000000000002): a slip undone gives back the number the author typed."""
+    0.0010500000000000002): a slip undone gives back the number the author typed.
+
+    Parameters
+    ----------
+    x : float or array of float
+        The written values.
+    k : int
+        The power of ten.
+
+    Returns
+    -------
+    array of float
+        `x` shifted, element by element.
+    """
     values = np.atleast_1d(np.asarray(x, dtype=np.float64))
     return np.array([float(Decimal(repr(float(v))).scaleb(k)) if np.isfinite(v) else v
                      for v in values])
@@ -266,7 +279,18 @@ def _times(k: int) -> str:
 
 
 def no_edit(w: Written) -> Edit:
-    """The written values as they are: the baseline every edit is ranked against."""
+    """The written values as they are: the baseline every edit is ranked against.
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+
+    Returns
+    -------
+    Edit
+        The edit that changes nothing.
+    """
     return Edit("none", "no edit", "as written", w, frozenset())
 
 
@@ -279,6 +303,16 @@ def candidate_edits(w: Written) -> list[Edit]:
     one), the entries read in another order (diagonal first, a swap of two products), the
     parallel-axis term removed (a tensor about the link origin), the CoM x10^+-3, and the
     origin's rpy ignored or inverted.
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+
+    Returns
+    -------
+    list of Edit
+        The candidates, the unchanged values first.
     """
     out = [no_edit(w)]
 
@@ -360,7 +394,22 @@ def _distinct(edits: list[Edit]) -> list[Edit]:
 
 
 def score_edit(edit: Edit, solid: Solid, limits: Limits) -> Scored:
-    """The edit's score against `solid` (module doc) and whether it is feasible."""
+    """The edit's score against `solid` (module doc) and whether it is feasible.
+
+    Parameters
+    ----------
+    edit : Edit
+        A candidate.
+    solid : Solid
+        The homogeneous solid of the link's geometry.
+    limits : Limits
+        What `check` accepts.
+
+    Returns
+    -------
+    Scored
+        The score (lower is likelier), feasibility, tensor error and why not.
+    """
     w = edit.written
     tensor = edit.tensor()
     prior = PRIOR_COST[edit.slip]
@@ -410,7 +459,18 @@ def placeholder_shaped(w: Written) -> bool:
     """Three equal diagonal entries: a placeholder someone typed (0.001 three times, 1e-8 on
     a 0.1 g camera, "5 5 5" with a product added), not a CAD value with a slip in it; no
     edit of it is what the author meant. (A CAD sphere or cube has them too: its slips are
-    missed.)"""
+    missed.)
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+
+    Returns
+    -------
+    bool
+        Whether its three diagonal entries are equal.
+    """
     e = w.entries
     return bool(e[0] == e[3] == e[5])
 
@@ -422,8 +482,23 @@ def _outside(xyz: np.ndarray, solid: Solid) -> float:
 
 
 def rank_edits(w: Written, solid: Solid, limits: Limits | None = None) -> list[Scored]:
-    """Every candidate edit ([`candidate_edits`][urdfinertia.inertia.slips.candidate_edits]) scored,
-    best (lowest) first."""
+    """Every candidate edit ([`candidate_edits`][urdfinertia.inertia.slips.candidate_edits])
+    scored, best (lowest) first.
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+    solid : Solid
+        The homogeneous solid of the link's geometry.
+    limits : Limits, optional
+        What `check` accepts (default: `Limits()`).
+
+    Returns
+    -------
+    list of Scored
+        Best first.
+    """
     limits = limits or Limits()
     far = _outside(w.xyz, solid) > limits.com_slip * solid.diagonal
     scored = [score_edit(e, solid, limits) for e in candidate_edits(w)]
@@ -434,7 +509,22 @@ def rank_edits(w: Written, solid: Solid, limits: Limits | None = None) -> list[S
 
 
 def propose(w: Written, solid: Solid, limits: Limits | None = None) -> Proposal | None:
-    """The edit that undoes the slip, when one is clearly it (module doc), else None."""
+    """The edit that undoes the slip, when one is clearly it (module doc).
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+    solid : Solid
+        The homogeneous solid of the link's geometry.
+    limits : Limits, optional
+        What `check` accepts (default: `Limits()`).
+
+    Returns
+    -------
+    Proposal or None
+        The edit and why, or None when no edit clearly beats every other.
+    """
     if placeholder_shaped(w):
         return None
     ranked = rank_edits(w, solid, limits)
@@ -452,6 +542,23 @@ def propose(w: Written, solid: Solid, limits: Limits | None = None) -> Proposal 
 
 
 def written(mass: float, xyz: ArrayLike, rpy: ArrayLike, entries: ArrayLike) -> Written:
-    """A [`Written`][urdfinertia.inertia.slips.Written] from plain values."""
+    """A [`Written`][urdfinertia.inertia.slips.Written] from plain values.
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    xyz : (3,) float
+        The CoM, m.
+    rpy : (3,) float
+        The inertial origin's angles, rad.
+    entries : (6,) float
+        `ixx ixy ixz iyy iyz izz`, kg m^2.
+
+    Returns
+    -------
+    Written
+        The values, checked for shape.
+    """
     return Written(mass, np.asarray(xyz, dtype=np.float64), np.asarray(rpy, dtype=np.float64),
                    np.asarray(entries, dtype=np.float64))
