@@ -159,6 +159,18 @@ class FileResults:
         self.hits = 0
 
     def path(self, key: str) -> Path:
+        """The entry file of `key`.
+
+        Parameters
+        ----------
+        key : str
+            A file entry's key.
+
+        Returns
+        -------
+        Path
+            Where it is stored.
+        """
         return self.cache.files_folder / key[:2] / f"{key}.entry"
 
     def mesh_key(self, path: str) -> str | None:

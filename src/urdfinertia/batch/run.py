@@ -100,6 +100,13 @@ class BatchSettings:
             raise ValueError("jobs must be at least 1")
 
     def open_cache(self) -> SolidsCache | None:
+        """The mesh cache these settings ask for.
+
+        Returns
+        -------
+        SolidsCache or None
+            None with `use_cache=False`.
+        """
         if not self.use_cache:
             return None
         return SolidsCache(self.cache_dir, self.cache_max_bytes)
@@ -121,6 +128,7 @@ class BatchReport:
 
     @property
     def failed(self) -> tuple[FileOutcome, ...]:
+        """The files that failed, in input order."""
         return tuple(o for o in self.outcomes if o.error is not None)
 
     @property

@@ -27,6 +27,18 @@ MEMO_FORMAT = "urdfinertia-digests/1"
 
 
 def content_digest(data: bytes) -> str:
+    """The digest the cache keys bytes by (BLAKE2b, 160 bits).
+
+    Parameters
+    ----------
+    data : bytes
+        A file's contents.
+
+    Returns
+    -------
+    str
+        40 hex digits.
+    """
     return hashlib.blake2b(data, digest_size=20).hexdigest()
 
 

@@ -286,6 +286,18 @@ class MeshLibrary:
         return mesh if mesh is not None else load_mesh(key, max_faces)
 
     def known(self, path: Path) -> bool:
+        """Whether the solids of the mesh file at `path` are already computed.
+
+        Parameters
+        ----------
+        path : Path
+            A mesh file.
+
+        Returns
+        -------
+        bool
+            True when the library holds them.
+        """
         return self._key(Path(path)) in self._memo
 
     def solids(self, path: Path) -> MeshSolids:

@@ -101,6 +101,20 @@ def entry_key(data: bytes, suffix: str) -> str:
 
 
 def key_from_digest(digest: str, suffix: str) -> str:
+    """The cache key of a mesh file with content digest `digest`.
+
+    Parameters
+    ----------
+    digest : str
+        `content_digest` of the file.
+    suffix : str
+        Its suffix (the reader depends on it).
+
+    Returns
+    -------
+    str
+        A key that changes with the cache format and the code that computes.
+    """
     head = "\0".join((CACHE_FORMAT, code_digest(),
                       suffix.lower(), digest))
     return hashlib.blake2b(head.encode(), digest_size=20).hexdigest()
@@ -140,6 +154,18 @@ class SolidsCache:
         self.written = 0
 
     def path(self, key: str) -> Path:
+        """The entry file of `key`.
+
+        Parameters
+        ----------
+        key : str
+            A cache key.
+
+        Returns
+        -------
+        Path
+            Where its entry is stored.
+        """
         return self.folder / key[:2] / f"{key}.entry"
 
     def get(self, key: str) -> tuple[MeshSolids | MeshError, int] | None:
@@ -208,6 +234,20 @@ class SolidsCache:
                 numbers.reshape(-1)))
 
     def arrays_path(self, key: str, kind: str) -> Path:
+        """The file of an entry's arrays of one `kind` (hull points, display copies).
+
+        Parameters
+        ----------
+        key : str
+            A cache key.
+        kind : str
+            What the arrays are.
+
+        Returns
+        -------
+        Path
+            Where they are stored.
+        """
         return self.folder / key[:2] / f"{key}.{kind}.entry"  # pruned like the others
 
     def store_mesh(self, key: str | None, path: Path, outcome: MeshSolids | Exception,
@@ -288,6 +328,13 @@ class SolidsCache:
         return entries, temporary
 
     def size(self) -> int:
+        """The bytes the cache's entries take.
+
+        Returns
+        -------
+        int
+            Their total size.
+        """
         return sum(size for _, size, _ in self.entries())
 
     def prune(self, max_bytes: int | None = None) -> int:

@@ -37,23 +37,56 @@ class RawInertial:
 
     @classmethod
     def from_inertial(cls, inertial: Inertial) -> RawInertial:
+        """The inertial as written, in the link frame (its origin's rotation applied).
+
+        Parameters
+        ----------
+        inertial : Inertial
+            An `<inertial>` as read.
+
+        Returns
+        -------
+        RawInertial
+            Its values, unvalidated.
+        """
         rot = rpy_matrix(inertial.origin.rpy)
         return cls(float(inertial.mass), np.asarray(inertial.origin.xyz, dtype=np.float64),
                    rot @ inertial.tensor() @ rot.T)
 
     @classmethod
     def from_mass_properties(cls, mp: MassProperties) -> RawInertial:
+        """The values of a validated body.
+
+        Parameters
+        ----------
+        mp : MassProperties
+            In the link frame.
+
+        Returns
+        -------
+        RawInertial
+            The same values.
+        """
         return cls(mp.mass, np.array(mp.com), np.array(mp.inertia))
 
     def diagnosis(self) -> TensorDiagnosis:
+        """What is wrong with the tensor, if anything.
+
+        Returns
+        -------
+        TensorDiagnosis
+            Its principal moments, symmetry and triangle-inequality margin.
+        """
         return diagnose_tensor(self.inertia)
 
     @property
     def mass_ok(self) -> bool:
+        """The mass is finite and positive."""
         return bool(np.isfinite(self.mass) and self.mass > 0)
 
     @property
     def com_ok(self) -> bool:
+        """Every CoM coordinate is finite."""
         return bool(np.all(np.isfinite(self.com)))
 
     def mass_properties(self) -> MassProperties | None:

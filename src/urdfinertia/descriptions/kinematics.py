@@ -76,10 +76,34 @@ class Kinematics:
             self._pose_in_root[child] = self._pose_in_root[parent] @ joint.origin.matrix()
 
     def moves(self, name: str) -> bool:
+        """Whether link `name` is the child of a moving (not fixed) joint.
+
+        Parameters
+        ----------
+        name : str
+            A link.
+
+        Returns
+        -------
+        bool
+            False for the root and for links on fixed joints.
+        """
         joint = self.parent_joint.get(name)
         return joint is not None and joint.type != "fixed"
 
     def group_of(self, name: str) -> FixedGroup:
+        """The group of links welded to link `name` by fixed joints.
+
+        Parameters
+        ----------
+        name : str
+            A link.
+
+        Returns
+        -------
+        FixedGroup
+            Its group (a group of one for a link with no fixed joint).
+        """
         return self.groups[self._group_root[name]]
 
 

@@ -91,6 +91,7 @@ class GeometryRef:
 
     @property
     def label(self) -> str:
+        """How reports name the element: `collision[0] 'name'`."""
         tag = f"{self.role}[{self.index}]"
         return f"{tag} '{self.name}'" if self.name else tag
 
@@ -232,6 +233,23 @@ class Robot:
     """
 
     def link(self, name: str) -> Link:
+        """The link called `name`.
+
+        Parameters
+        ----------
+        name : str
+            A link name.
+
+        Returns
+        -------
+        Link
+            The link.
+
+        Raises
+        ------
+        KeyError
+            When the robot has no such link.
+        """
         for link in self.links:
             if link.name == name:
                 return link

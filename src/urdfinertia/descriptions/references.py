@@ -43,4 +43,16 @@ def relocated(uri: str, source_dir: Path, output_dir: Path) -> str:
 
 
 def same_folder(source_dir: Path, output_dir: Path) -> bool:
+    """Whether two folders are the same path (no reference needs rewriting).
+
+    Parameters
+    ----------
+    source_dir, output_dir : Path
+        The input's and the output's folders.
+
+    Returns
+    -------
+    bool
+        True when they are the same absolute path.
+    """
     return os.path.abspath(source_dir) == os.path.abspath(output_dir)

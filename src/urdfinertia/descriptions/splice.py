@@ -52,6 +52,20 @@ moment (or of the geometry's size) are round-off and written as 0.
 
 
 def line_indent(data: bytes, pos: int) -> bytes:
+    """The indentation of the line holding byte `pos`, when only whitespace precedes it.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    pos : int
+        A byte offset.
+
+    Returns
+    -------
+    bytes
+        The whitespace before `pos` on its line, else b"".
+    """
     line_start = data.rfind(b"\n", 0, pos) + 1
     prefix = data[line_start:pos]
     return prefix if prefix.strip() == b"" else b""
@@ -69,6 +83,21 @@ CDATA, 3 processing instruction, 4 other declaration, 5-8 a tag (as a tag); noth
 
 
 def skip_declaration(data: bytes, lt: int) -> int:
+    """The offset just past the declaration (`<!DOCTYPE ...>`, with its internal subset) starting at
+    `lt`.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    lt : int
+        The offset of the declaration's `<`.
+
+    Returns
+    -------
+    int
+        The offset after its closing `>`.
+    """
     depth = 0
     i = lt + 2
     while i < len(data):

@@ -62,6 +62,21 @@ def _speeds(result: dict, t: float, names: list[tuple[str, str]], qvel: np.ndarr
 
 
 def probe_mujoco(path: Path, seconds: float) -> dict:
+    """Load `path` in MuJoCo and step a passive run (in this child process).
+
+    Parameters
+    ----------
+    path : Path
+        The description.
+    seconds : float
+        Simulated seconds.
+
+    Returns
+    -------
+    dict
+        JSON-ready: accepted, the error, NaN or instability, runaway joints, the masses and
+        inertias the engine simulates.
+    """
     import mujoco
 
     result = _result("mujoco")
@@ -97,6 +112,21 @@ def probe_mujoco(path: Path, seconds: float) -> dict:
 
 
 def probe_pybullet(path: Path, seconds: float) -> dict:
+    """Load `path` in PyBullet (DIRECT) and step a passive run (in this child process).
+
+    Parameters
+    ----------
+    path : Path
+        The description.
+    seconds : float
+        Simulated seconds.
+
+    Returns
+    -------
+    dict
+        JSON-ready: accepted, the error, NaN, runaway joints, the masses and inertias the engine
+        simulates.
+    """
     import pybullet as p
 
     result = _result("pybullet")
@@ -141,6 +171,20 @@ def probe_pybullet(path: Path, seconds: float) -> dict:
 
 
 def probe_pinocchio(path: Path, seconds: float) -> dict:
+    """Build `path`'s Pinocchio model and integrate a passive run (in this child process).
+
+    Parameters
+    ----------
+    path : Path
+        The description.
+    seconds : float
+        Simulated seconds.
+
+    Returns
+    -------
+    dict
+        JSON-ready: accepted, the error, NaN, runaway joints.
+    """
     import pinocchio as pin
 
     result = _result("pinocchio")
@@ -218,6 +262,18 @@ PROBES = {"mujoco": probe_mujoco, "pybullet": probe_pybullet, "pinocchio": probe
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The probe's command line: one engine, one file, the result as JSON in a file.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default: `sys.argv[1:]`).
+
+    Returns
+    -------
+    int
+        0.
+    """
     parser = argparse.ArgumentParser(prog="urdfinertia.engines.probe")
     parser.add_argument("engine", choices=sorted(PROBES))
     parser.add_argument("urdf", type=Path)

@@ -54,6 +54,18 @@ def parse_engines(text: str) -> tuple[str, ...]:
 
 
 def installed(name: str) -> bool:
+    """Whether engine `name` can be imported (without importing it).
+
+    Parameters
+    ----------
+    name : str
+        "mujoco", "pinocchio" or "pybullet".
+
+    Returns
+    -------
+    bool
+        True when its module is found.
+    """
     return importlib.util.find_spec(ENGINES[name].module) is not None
 
 
@@ -69,6 +81,7 @@ class Outcome:
 
     @property
     def accepted(self) -> bool:
+        """The engine loaded the description."""
         return self.result is not None and bool(self.result["accepted"])
 
 
@@ -124,6 +137,24 @@ class EngineCheck:
     def outcomes(self, path: Path, robot: Robot,
                  package_dirs: Mapping[str, Path] | None = None,
                  data: bytes | None = None) -> dict[str, Outcome]:
+        """Load the description in each requested engine, each in a child process.
+
+        Parameters
+        ----------
+        path : Path
+            The description's file.
+        robot : Robot
+            Its model.
+        package_dirs : mapping of str to Path, optional
+            Where `package://` points.
+        data : bytes, optional
+            The document (default: read from `path`).
+
+        Returns
+        -------
+        dict of str to Outcome
+            Engine name -> what happened.
+        """
         data = read_bytes(path) if data is None else data
         found: dict[str, Outcome] = {}
         for name in self.engines:
@@ -144,6 +175,24 @@ class EngineCheck:
     def findings(self, path: Path, robot: Robot,
                  package_dirs: Mapping[str, Path] | None = None,
                  data: bytes | None = None) -> list[Finding]:
+        """The findings of loading the description in each requested engine (UI4xx).
+
+        Parameters
+        ----------
+        path : Path
+            The description's file.
+        robot : Robot
+            Its model.
+        package_dirs : mapping of str to Path, optional
+            Where `package://` points.
+        data : bytes, optional
+            The document (default: read from `path`).
+
+        Returns
+        -------
+        list of Finding
+            One or more per engine; UI410 when no engine reads the format.
+        """
         if robot.format != "urdf":
             return [Finding(None, "info", "engine-skipped",
                             f"engine checks read URDF only; this is {robot.format}")]
@@ -156,6 +205,24 @@ class EngineCheck:
 
 def outcome_findings(outcome: Outcome, robot: Robot, data: bytes, path: Path,
                      ) -> list[Finding]:
+    """The findings of one engine's outcome.
+
+    Parameters
+    ----------
+    outcome : Outcome
+        What happened in the engine.
+    robot : Robot
+        The model it loaded.
+    data : bytes
+        The document.
+    path : Path
+        Its file.
+
+    Returns
+    -------
+    list of Finding
+        Refused, NaN, unstable, runaway, crashed, or inertials it replaces.
+    """
     spec = ENGINES[outcome.engine]
     label = spec.label
     if outcome.missing:
@@ -245,6 +312,18 @@ def regressions(before: Mapping[str, Outcome], after: Mapping[str, Outcome],
 
 
 def outcome_summary(outcome: Outcome) -> str:
+    """One engine's outcome in a word or two ("stable", "refused", "not installed").
+
+    Parameters
+    ----------
+    outcome : Outcome
+        What happened.
+
+    Returns
+    -------
+    str
+        The summary.
+    """
     if outcome.missing:
         return "not installed"
     if outcome.result is None:

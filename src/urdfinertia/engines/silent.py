@@ -27,6 +27,28 @@ _CHANGED = 1e-3
 
 def silent_findings(engine: str, result: dict, robot: Robot, data: bytes, path: Path,
                     output: str) -> list[Finding]:
+    """The inertials an engine loaded but simulates differently (UI406, UI407).
+
+    Parameters
+    ----------
+    engine : str
+        The engine.
+    result : dict
+        Its probe's result.
+    robot : Robot
+        The model as read.
+    data : bytes
+        The document.
+    path : Path
+        Its file.
+    output : str
+        Where the finding says the values are ("input", "output").
+
+    Returns
+    -------
+    list of Finding
+        One per link whose inertial the engine replaces.
+    """
     if engine == "pybullet":
         return _pybullet(result, robot, output)
     if engine == "mujoco":

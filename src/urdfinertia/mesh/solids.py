@@ -71,6 +71,18 @@ class Solid:
         )
 
     def mass_properties(self, density: float) -> MassProperties:
+        """The solid's mass properties at `density`.
+
+        Parameters
+        ----------
+        density : float
+            kg/m^3.
+
+        Returns
+        -------
+        MassProperties
+            In the mesh's frame.
+        """
         return mass_properties_from_integrals(self.volume, self.first, self.second, density)
 
 
@@ -82,6 +94,18 @@ class MeshSolids:
     notes: tuple[str, ...] = ()
 
     def scaled(self, scale: ArrayLike) -> MeshSolids:
+        """Every solid scaled by `scale` (a `<mesh scale>`).
+
+        Parameters
+        ----------
+        scale : (3,) float
+            The scale along x, y, z.
+
+        Returns
+        -------
+        MeshSolids
+            The scaled solids, the same notes.
+        """
         return MeshSolids(tuple(s.scaled(scale) for s in self.solids), self.notes)
 
 

@@ -182,10 +182,12 @@ class MjcfDocument:
 
     @property
     def degrees(self) -> bool:
+        """`<compiler angle>`: angles in degrees (MuJoCo's default) rather than radians."""
         return self.compiler.get("angle", "degree").strip() != "radian"
 
     @property
     def eulerseq(self) -> str:
+        """`<compiler eulerseq>`: the axes of `euler` rotations (default "xyz")."""
         return self.compiler.get("eulerseq", "xyz").strip()
 
     @property
@@ -195,9 +197,22 @@ class MjcfDocument:
 
     @property
     def inertia_from_geom(self) -> str:
+        """`<compiler inertiafromgeom>`: "auto" (default), "true" or "false"."""
         return self.compiler.get("inertiafromgeom", "auto").strip()
 
     def inertia_group_range(self) -> tuple[int, int]:
+        """`<compiler inertiagrouprange>`: the geom groups that count for inertia.
+
+        Returns
+        -------
+        (int, int)
+            The first and last group (default 0 and 5).
+
+        Raises
+        ------
+        UrdfError
+            When the attribute is not two integers.
+        """
         parts = self.compiler.get("inertiagrouprange", "0 5").split()
         try:
             lo, hi = (int(p) for p in parts)

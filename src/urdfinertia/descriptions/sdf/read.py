@@ -434,6 +434,27 @@ def _version(text: str | None) -> tuple[int, ...]:
 
 
 def robot_from_bytes(data: bytes, path: str | Path, *, lenient: bool = False) -> Robot:
+    """The robot model of an SDFormat document (its first `<model>`, nested models included).
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : str or Path
+        Where it was read from (URIs resolve from its folder).
+    lenient : bool
+        Keep non-finite values for the linters instead of refusing them.
+
+    Returns
+    -------
+    Robot
+        The robot model.
+
+    Raises
+    ------
+    UrdfError
+        When the document is not SDFormat or has no model.
+    """
     path = Path(path)
     root = parse_document(_readable(data), path, ("sdf",))
     ctx = _Ctx(path, lenient)

@@ -32,6 +32,20 @@ def read_urdf_lenient(path: str | Path) -> tuple[Robot, bytes]:
 
 
 def robot_from_bytes_lenient(data: bytes, path: str | Path) -> Robot:
+    """The robot model of a URDF, read as urdfdom reads it and keeping non-finite values.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : str or Path
+        Where it was read from.
+
+    Returns
+    -------
+    Robot
+        The robot model; what was read past is in `robot.problems`.
+    """
     path = Path(path)
     notes: list[Problem] = []
     root = parse_xml(data, path, notes)

@@ -77,6 +77,25 @@ def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
 
 
 def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
+    """The robot model of a URDF document.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : str or Path
+        Where it was read from (relative mesh references resolve from its folder).
+
+    Returns
+    -------
+    Robot
+        The robot model; what was read past is in `robot.problems`.
+
+    Raises
+    ------
+    UrdfError
+        When the document is not a URDF or an inertial cannot be computed from.
+    """
     notes: list[Problem] = []
     root = parse_xml(data, path, notes)
     robot = robot_from_element(root, Path(path), notes)

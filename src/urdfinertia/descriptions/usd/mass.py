@@ -75,6 +75,22 @@ def applied(prim: Any) -> tuple[str, ...]:
 
 
 def authored(prim: Any, mpu: float, kpu: float) -> Authored:
+    """What a prim's MassAPI (and Newton's attributes) author, in SI units.
+
+    Parameters
+    ----------
+    prim : Usd.Prim
+        A rigid body or collider prim.
+    mpu : float
+        The stage's metres per unit.
+    kpu : float
+        The stage's kilograms per unit.
+
+    Returns
+    -------
+    Authored
+        The authored mass, density, CoM, diagonal inertia and principal axes.
+    """
     schemas = applied(prim)
     mass = _get(prim, "physics:mass")
     density = _get(prim, "physics:density")

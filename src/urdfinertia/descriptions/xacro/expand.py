@@ -88,6 +88,20 @@ class Expansion:
 
 
 def line_of(data: bytes, offset: int) -> int:
+    """The 1-based line of byte `offset` of `data`.
+
+    Parameters
+    ----------
+    data : bytes
+        A file's contents.
+    offset : int
+        A byte offset.
+
+    Returns
+    -------
+    int
+        Its line.
+    """
     return data.count(b"\n", 0, offset) + 1
 
 

@@ -32,6 +32,7 @@ class Literal:
 
     @property
     def value(self) -> float:
+        """The literal's number."""
         return float(self.text)
 
 

@@ -34,6 +34,13 @@ def configure(args: Mapping[str, str] | None = None,
 
 
 def current_settings() -> XacroSettings:
+    """The xacro arguments and package folders expansions use now.
+
+    Returns
+    -------
+    XacroSettings
+        Set by `configure` or, for one call, `settings_for`.
+    """
     return _settings
 
 

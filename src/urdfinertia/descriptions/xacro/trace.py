@@ -46,11 +46,35 @@ class LinkInertial:
 
 
 def elements(document: bytes) -> list[etree._Element]:
+    """Every element of an expanded document, in document order.
+
+    Parameters
+    ----------
+    document : bytes
+        The URDF xacro made.
+
+    Returns
+    -------
+    list of lxml elements
+        In document order.
+    """
     root = parse_document(document, "<xacro expansion>", ("robot",))
     return list(root.iter(etree.Element))
 
 
 def index_of(els: list[etree._Element]) -> dict[etree._Element, int]:
+    """Each element's position in `els`.
+
+    Parameters
+    ----------
+    els : list of lxml elements
+        Elements in document order.
+
+    Returns
+    -------
+    dict
+        Element -> index.
+    """
     return {el: i for i, el in enumerate(els)}
 
 

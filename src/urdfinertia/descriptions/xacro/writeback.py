@@ -75,6 +75,7 @@ class Plan:
 
     @property
     def written(self) -> set[str]:
+        """The links whose values were written back."""
         return {o.link for o in self.outcomes if o.status == "written"}
 
     def new_sources(self, exp: Expansion) -> dict[Path, bytes]:
@@ -323,6 +324,20 @@ def _plan_values(prober: _Prober, exp: Expansion, before: dict[str, LinkInertial
 
 
 def els_value(prober: _Prober, position: Position) -> list[str]:
+    """The whitespace-separated words at `position` of the prober's expansion.
+
+    Parameters
+    ----------
+    prober : _Prober
+        An expansion with probe values.
+    position : Position
+        (element index, attribute or "#text", word index).
+
+    Returns
+    -------
+    list of str
+        The attribute's (or the text's) words.
+    """
     el_index, attr, _ = position
     el = prober.els[el_index]
     return (el.text if attr == "#text" else el.get(attr, "")).split()

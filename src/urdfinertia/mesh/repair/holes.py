@@ -76,15 +76,35 @@ class HoleCaps:
 
     @classmethod
     def none(cls) -> HoleCaps:
+        """No caps.
+
+        Returns
+        -------
+        HoleCaps
+            Empty.
+        """
         return cls(np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0),
                    np.zeros(0, dtype=bool), np.zeros(0, dtype=bool), np.zeros(0))
 
     def subset(self, mask: np.ndarray) -> HoleCaps:
+        """The caps `mask` selects.
+
+        Parameters
+        ----------
+        mask : (n,) bool
+            One entry per cap.
+
+        Returns
+        -------
+        HoleCaps
+            Those caps.
+        """
         return HoleCaps(self.vertex[mask], self.area[mask], self.uncertainty[mask],
                         self.planar[mask], self.level[mask], self.dependence[mask])
 
     @property
     def loops(self) -> int:
+        """How many holes are capped."""
         return len(self.vertex)
 
     def widened(self) -> HoleCaps:

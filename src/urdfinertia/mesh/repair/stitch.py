@@ -70,10 +70,24 @@ class Stitch:
     table: EdgeTable
 
     def provenance(self) -> str:
+        """One line for the solid's provenance.
+
+        Returns
+        -------
+        str
+            How many boundary vertices were stitched, and across what gaps.
+        """
         return (f"stitched {self.merged + self.inserted} boundary vertices "
                 f"(gaps up to {self.gap:.2g} m)")
 
     def note(self) -> str:
+        """The repair note of the stitch.
+
+        Returns
+        -------
+        str
+            What was merged, split and joined.
+        """
         what = []
         if self.merged:
             what.append(f"merged {self.merged} boundary vertices")
