@@ -49,7 +49,10 @@ def test_the_newcomer_notebook_in_a_fresh_environment(tmp_path, erd_dir):
     start = time.perf_counter()
     venv.EnvBuilder(with_pip=True).create(env_dir)
     python = env_dir / "bin" / "python"
-    installed = subprocess.run([str(python), "-m", "pip", "install", "--quiet", str(source)],
+    # --no-compile: byte-compiling every installed module (plotly alone has thousands) is
+    # most of an install's time and not what is tested here
+    installed = subprocess.run([str(python), "-m", "pip", "install", "--quiet", "--no-compile",
+                                "--disable-pip-version-check", str(source)],
                                capture_output=True, text=True, timeout=600)
     assert installed.returncode == 0, installed.stdout[-3000:] + installed.stderr[-3000:]
     setup = time.perf_counter() - start
