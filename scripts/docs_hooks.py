@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import html
 import re
+from pathlib import Path
 from typing import Any
 
 RULES_PAGE = "rules.md"
@@ -32,10 +33,19 @@ def _member_docs(class_name: str) -> dict[str, str]:
     attribute docstrings exist only there)."""
     import griffe
 
-    module = griffe.load("urdfinertia.rules", resolve_aliases=False)
+    # the module's file alone, statically: no import of the package, no inspection
+    module = griffe.visit("rules", filepath=Path(registry_file()),
+                          code=Path(registry_file()).read_text(encoding="utf-8"))
     members = module[class_name].members
-    return {name: m.docstring.value.strip() if m.docstring else ""
+    return {name: " ".join(m.docstring.value.split()) if m.docstring else ""
             for name, m in members.items() if not name.startswith("_")}
+
+
+def registry_file() -> str:
+    """The source file of the rule registry."""
+    import urdfinertia.rules
+
+    return urdfinertia.rules.__file__
 
 
 def _blocks(doc: str) -> dict[str, str]:
