@@ -1,22 +1,25 @@
-"""The library's commands: ``check``, ``fix``, ``compare``, ``explain`` and ``report`` in Python.
+"""The library's commands: `check`, `fix`, `compare`, `explain` and `report` in Python.
 
-Each takes a description's path and the command line's options as keyword arguments with
+Each takes a description's path and the command line's options as keyword arguments, with
 the command line's defaults, and returns typed objects: the same per-link verdicts
-(:class:`~urdfinertia.plan.results.LinkResult`) every command renders. The command line
-is a thin shell over the same functions, so the answers agree link by link::
+([LinkResult][urdfinertia.plan.results.LinkResult]) every command renders. The command line
+is a thin shell over the same functions, so the answers agree link by link:
 
-    import urdfinertia
-    found = urdfinertia.check("robot.urdf")          # geometry read, as the CLI does
-    result = urdfinertia.fix("robot.urdf", density=1200.0)
-    print(result.recomputed, [r.status for r in result.links])
+```python
+import urdfinertia
 
-Options (:class:`~urdfinertia.body.options.FixOptions`): ``geometry`` ("auto",
-"collision", "visual"), ``mass`` ("keep", "density"), ``density`` (kg/m^3),
-``package_dirs`` (package name -> folder), ``max_faces``, ``spec`` (a path or a loaded
-spec), ``strict``, ``keep_auto``, ``recompute`` ("needed", "all", "links") and ``links``;
-for xacro input also ``xacro_args`` (NAME -> VALUE, as ``--xacro-arg NAME:=VALUE``).
-A fixed xacro robot is written back into its sources with
-:func:`~urdfinertia.plan.save.write_back`.
+found = urdfinertia.check("robot.urdf")          # geometry read, as the command line does
+result = urdfinertia.fix("robot.urdf", density=1200.0)
+print(result.recomputed, [r.status for r in result.links])
+result.save("robot.fixed.urdf")                  # the bytes `fix -o` writes
+```
+
+The options every command that reads geometry takes are the fields of
+[FixOptions][urdfinertia.body.options.FixOptions]; for xacro input also `xacro_args`
+(NAME -> VALUE, as `--xacro-arg NAME:=VALUE`). A fixed xacro robot is written back into its
+sources with [write_back][urdfinertia.plan.save.write_back]. The table under "The command
+line in Python" maps every option of the command line to its keyword.
+
 This module may import every layer below the command line.
 """
 
@@ -41,9 +44,9 @@ _F = TypeVar("_F", bound=Callable[..., Any])
 
 
 def _xacro_options(func: _F) -> _F:
-    """Let ``func`` take ``xacro_args`` (NAME -> VALUE) among its keyword options: xacro
-    input read in the call is expanded with them and ``package_dirs``; nothing outside the
-    call is affected."""
+    """Let `func` take `xacro_args` (NAME -> VALUE) among its keyword options: xacro input
+    read in the call is expanded with them and `package_dirs`; nothing outside the call is
+    affected."""
 
     @functools.wraps(func)
     def wrapper(*args: Any, xacro_args: Mapping[str, str] | None = None,
@@ -57,8 +60,26 @@ def _xacro_options(func: _F) -> _F:
 
 
 def make_options(**options: Any) -> FixOptions:
-    """:class:`FixOptions` from keyword arguments; ``spec`` may be a path, ``package_dirs``
-    a mapping of names to folders given as strings or paths."""
+    """The [FixOptions][urdfinertia.body.options.FixOptions] the keyword arguments ask for.
+
+    Parameters
+    ----------
+    **options
+        The fields of `FixOptions`, by name; `spec` may also be a path, `package_dirs` a
+        mapping of names to folders given as strings or paths, `links` any sequence.
+
+    Returns
+    -------
+    FixOptions
+        The options, validated.
+
+    Raises
+    ------
+    TypeError
+        On a keyword that is not an option; the message lists the options.
+    ValueError
+        On a value out of range (an unknown geometry mode, a negative density).
+    """
     import dataclasses
 
     from urdfinertia.body.options import FixOptions
@@ -94,17 +115,50 @@ def make_options(**options: Any) -> FixOptions:
 def check(path: str | Path, *, geometry: bool = True, statics: bool = True,
           effort_margin: float | None = None, realizable: str = "ellipsoid",
           mass_tolerance: float | None = None, **options: Any) -> CheckResult:
-    """Lint the description at ``path``: findings and what ``fix`` would do, per link.
+    """Lint the description at `path`: its findings and what `fix` would do, per link.
 
-    ``geometry=False`` checks the written values only (``check --no-geometry``).
-    ``statics=False`` skips the joints' gravity loads (``check --no-statics``);
-    ``effort_margin`` is ``--effort-margin`` (default 0.2); ``result.statics`` holds the
-    total mass, whole CoM and every joint's load.
-    ``realizable="hull"`` tests the written inertials in the geometry's convex hull instead
-    of its bounding ellipsoid (``check --realizable hull``). ``total_mass=KG`` (or a spec's
-    targets) is held against the written masses within ``mass_tolerance`` (a fraction,
-    default 0.01; ``check --total-mass``, ``--mass-tolerance``).
-    ``result.exit_code()`` is the command line's exit code without a baseline.
+    Nothing is written. The same as `urdf-inertia check`: the geometry is read, and every
+    link gets the verdict `fix` would act on.
+
+    Parameters
+    ----------
+    path : str or Path
+        A URDF, xacro, SDFormat, MJCF or USD file.
+    geometry : bool
+        False checks the written values only and reads no mesh (`--no-geometry`).
+    statics : bool
+        False skips the joints' gravity loads (`--no-statics`).
+    effort_margin : float, optional
+        The fraction of a joint's effort limit that warns (`--effort-margin`, 0.2).
+    realizable : {"ellipsoid", "hull"}
+        Test the written inertials inside the geometry's bounding ellipsoid, or its convex
+        hull (`--realizable`).
+    mass_tolerance : float, optional
+        The fraction by which the written masses may miss `total_mass` or a spec's target
+        (`--mass-tolerance`, 0.01).
+    **options
+        The options of [fix][urdfinertia.api.fix], and `total_mass` (kg) to hold
+        the written masses against. Note that `geometry` here is the boolean above: the
+        geometry mode of `fix` is not an option of `check` in Python.
+
+    Returns
+    -------
+    CheckResult
+        `findings`, `links` (one verdict per link), `would_change`, `statics` (total mass,
+        whole CoM, every joint's load) and `exit_code(strict=False)`, the command line's
+        exit code without a baseline.
+
+    Raises
+    ------
+    UrdfInertiaError
+        When the file cannot be read at all (a problem inside it is a finding instead).
+
+    Examples
+    --------
+    ```python
+    checked = urdfinertia.check("robots/nm7mar.urdf")
+    print(checked.counts(), checked.would_change)
+    ```
     """
     from urdfinertia.analysis.check import check_description
     from urdfinertia.analysis.statics import DEFAULT_MARGIN
@@ -121,13 +175,78 @@ def check(path: str | Path, *, geometry: bool = True, statics: bool = True,
 
 @_xacro_options
 def fix(path: str | Path, **options: Any) -> FixResult:
-    """Fix the inertials of the description at ``path``; nothing is written.
+    """Fix the inertials of the description at `path`; nothing is written.
 
-    ``result.output`` holds the patched document, ``result.links`` the verdicts.
-    ``slips=False`` derives a flagged inertial from its geometry even where one edit of the
-    written values undoes a slip (``fix --no-slips``). ``total_mass=KG`` scales the derived
-    masses so that the robot weighs KG (``scale_kept=True``: every mass); ``result.targets``
-    says before, target and after (``fix --total-mass``, ``--scale-kept``).
+    The links whose inertial is wrong are recomputed from their geometry (or a slip in
+    their values undone); the others are kept byte for byte.
+
+    Parameters
+    ----------
+    path : str or Path
+        A URDF, xacro, SDFormat, MJCF or USD file.
+    **options
+        The options below (the command line's, with its defaults).
+
+    Other Parameters
+    ----------------
+    geometry : {"auto", "collision", "visual"}
+        Which of a link's geometry to use (`--geometry`, default "auto": per link, the set
+        that best represents the body).
+    mass : {"keep", "density"}
+        "keep" keeps a link's positive mass and derives CoM and tensor; "density" derives
+        the mass too, density x volume (`--mass`).
+    density : float
+        kg/m^3 for links without mass or with `mass="density"` (`--density`, 1000).
+    package_dirs : mapping of str to path
+        Where `package://NAME/` and `$(find NAME)` point: `{"NAME": "FOLDER"}`
+        (`--package-dir NAME=FOLDER`). A relative folder is taken from the working
+        directory.
+    xacro_args : mapping of str to str
+        Arguments of a xacro input: `{"NAME": "VALUE"}` (`--xacro-arg NAME:=VALUE`).
+    max_faces : int
+        Refuse larger meshes before reading them (`--max-faces`, 1,000,000).
+    spec : str, path or Spec
+        A decomposition spec (`--spec`): a TOML path or a spec from
+        [load_spec][urdfinertia.body.spec.load_spec].
+    strict : bool
+        All or nothing (`--strict`): an element dropped or a link left as it was raises.
+    keep_auto : bool
+        SDFormat: leave `<inertial auto="true">` to the simulator (`--keep-auto`).
+    recompute : {"needed", "all", "links"}
+        Which links are recomputed: the wrong ones (default), every link with geometry
+        (`--all`), or those named in `links` (`--links`).
+    links : sequence of str
+        The links to recompute; implies `recompute="links"`.
+    slips : bool
+        Undo a clear one-edit slip of a written value rather than derive it (default
+        True; `--no-slips` is `slips=False`).
+    total_mass : float
+        kg the robot weighs: derived masses are scaled to meet it (`--total-mass`).
+    scale_kept : bool
+        With `total_mass`, scale the kept masses too (`--scale-kept`).
+
+    Returns
+    -------
+    FixResult
+        `links` (one [LinkResult][urdfinertia.plan.results.LinkResult] per link: status,
+        action, values before and after, error bar), `changed`, `recomputed`,
+        `changed_links`, `output` (the patched document) and `targets` (total mass
+        before, target and after); `result.save(path)` writes what `fix -o` writes.
+
+    Raises
+    ------
+    UrdfInertiaError
+        When the file cannot be read at all, or with `strict=True` when a link is left as
+        it was.
+    TypeError
+        On an unknown option (the message lists them).
+
+    Examples
+    --------
+    ```python
+    result = urdfinertia.fix("robots/nm7mar.urdf", spec="robots/nm7mar.inertia.toml")
+    result.save("nm7mar.fixed.urdf")
+    ```
     """
     from urdfinertia.plan.fix import fix_file
 
@@ -138,8 +257,32 @@ def fix(path: str | Path, **options: Any) -> FixResult:
 def compare(path: str | Path, against: str | Path | None = None, *,
             tol_com: float | None = None, tol_inertia: float | None = None,
             tol_mass: float | None = None, **options: Any) -> list[LinkComparison]:
-    """The written inertials of ``path`` against its geometry (with ``fix``'s decision for
-    each link), or against the inertials of the description ``against``."""
+    """The written inertials of `path` against its geometry, or against another file's.
+
+    Parameters
+    ----------
+    path : str or Path
+        The description whose inertials are side A.
+    against : str or Path, optional
+        A second description: side B is its inertials (`--against`). By default side B is
+        computed from the geometry of `path`, with `fix`'s decision for each link.
+    tol_com : float, optional
+        CoM distance / link size above which a link differs (`--tol-com`, 0.05).
+    tol_inertia : float, optional
+        Relative tensor error above which a link differs (`--tol-inertia`, 0.1).
+    tol_mass : float, optional
+        |mass ratio - 1| above which a link differs (`--tol-mass`, 0.05).
+    **options
+        The options of [fix][urdfinertia.api.fix], used to compute side B from the
+        geometry (ignored with `against`).
+
+    Returns
+    -------
+    list of LinkComparison
+        One per link: both sides' mass properties, the mass ratio, CoM distance (absolute
+        and relative to the link's size), tensor error, principal-axis angle and a verdict
+        ("ok", "differs", "kept", "invalid", "missing").
+    """
     from urdfinertia.analysis import compare as _compare
 
     tols = {"tol_com": _compare.DEFAULT_TOL_COM if tol_com is None else tol_com,
@@ -156,7 +299,28 @@ def compare(path: str | Path, against: str | Path | None = None, *,
 
 @_xacro_options
 def explain(path: str | Path, link: str, **options: Any) -> Breakdown:
-    """Link ``link`` of ``path``: what ``fix`` writes and its geometry element by element."""
+    """One link of `path`: what `fix` writes, and its geometry element by element.
+
+    Parameters
+    ----------
+    path : str or Path
+        The description.
+    link : str
+        The link's name (`--link`).
+    **options
+        The options of [fix][urdfinertia.api.fix].
+
+    Returns
+    -------
+    Breakdown
+        The link's total (what `fix` writes), its principal moments and axes, and each
+        element's and part's contribution.
+
+    Raises
+    ------
+    UrdfInertiaError
+        When the file cannot be read or has no link of that name.
+    """
     from urdfinertia.analysis.explain import explain_link
     from urdfinertia.descriptions.formats import read_description
 
@@ -166,14 +330,32 @@ def explain(path: str | Path, link: str, **options: Any) -> Breakdown:
 
 @dataclass(frozen=True, eq=False)
 class Report:
-    """The HTML report of one description: ``html`` (one self-contained page) and the
-    ``data`` it shows."""
+    """The HTML report of one description (what [report][urdfinertia.api.report] returns).
+
+    Attributes
+    ----------
+    html : str
+        One self-contained page: it loads nothing from the network.
+    data : ReportData
+        What the page shows: every link's verdict, values before and after, the 3-D scene.
+    """
 
     html: str
     data: ReportData
 
     def save(self, path: str | Path) -> Path:
-        """Write the page to ``path`` atomically; returns the path."""
+        """Write the page to `path` atomically (a reader never sees half a file).
+
+        Parameters
+        ----------
+        path : str or Path
+            Where to write the page.
+
+        Returns
+        -------
+        Path
+            `path`.
+        """
         from urdfinertia.atomic import atomic_write_bytes
 
         atomic_write_bytes(Path(path), self.html.encode("utf-8"))
@@ -183,7 +365,25 @@ class Report:
 @_xacro_options
 def report(path: str | Path, *, view: str = "visual", face_budget: int | None = None,
            **options: Any) -> Report:
-    """The HTML report of ``path`` (``report.save("robot.html")`` writes it)."""
+    """The HTML report of `path`: a 3-D view with the inertia boxes before and after, and
+    every link's verdict.
+
+    Parameters
+    ----------
+    path : str or Path
+        The description.
+    view : {"visual", "collision"}
+        The geometry drawn in the 3-D view (`--view`).
+    face_budget : int, optional
+        Faces the 3-D view's meshes share, decimated to fit (`--view-faces`, 100,000).
+    **options
+        The options of [fix][urdfinertia.api.fix].
+
+    Returns
+    -------
+    Report
+        `html` and `data`; `report.save("robot.html")` writes the page.
+    """
     from urdfinertia.render.report import collect, render_html
     from urdfinertia.render.scene import DEFAULT_VIEW_FACES
 

@@ -2,9 +2,9 @@
 
 A failed run leaves no half-written output and an existing file is replaced only on
 success: the new bytes go to a temporary file next to the target, are flushed to disk,
-and the temporary file is renamed over the target (``os.replace``, atomic on POSIX and
+and the temporary file is renamed over the target (`os.replace`, atomic on POSIX and
 Windows). A symbolic link is followed: its target is replaced, the link stays a link.
-A batch run writes through one :class:`OutputWriter`: outputs that already hold the new
+A batch run writes through one `OutputWriter`: outputs that already hold the new
 bytes stay untouched, and each folder is fsynced once at the end.
 """
 
@@ -21,20 +21,20 @@ from pathlib import Path
 from urdfinertia.errors import OutputError
 
 _UMASK_LOCK = threading.Lock()
-#: Folders :meth:`OutputWriter.close` fsyncs at once.
 SYNC_THREADS = 8
+"""Folders `OutputWriter.close` fsyncs at once."""
 
 
 def replace_file(target: Path, data: bytes, *, durable: bool = True,
                  mode: int | None = None, sync_folder: bool = True) -> None:
-    """The one temporary-file-and-rename dance: ``target`` holds ``data`` or is untouched.
+    """The one temporary-file-and-rename dance: `target` holds `data` or is untouched.
 
-    The temporary file ``.<name>.*.tmp`` sits in ``target``'s folder (a rename never
+    The temporary file `.<name>.*.tmp` sits in `target`'s folder (a rename never
     crosses file systems) and is removed on any failure, KeyboardInterrupt included.
-    ``durable``: fsync the data before the rename and the folder after it (outputs);
+    `durable`: fsync the data before the rename and the folder after it (outputs);
     cache files skip both, since a lost cache entry only costs a recomputation.
-    ``mode``: permission bits of the new file (None: ``mkstemp``'s 0600).
-    ``sync_folder``: False leaves the folder's fsync to the caller (:class:`OutputWriter`
+    `mode`: permission bits of the new file (None: `mkstemp`'s 0600).
+    `sync_folder`: False leaves the folder's fsync to the caller (`OutputWriter`
     syncs each folder once, after all its files). Raises OSError.
     """
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
@@ -58,10 +58,10 @@ def replace_file(target: Path, data: bytes, *, durable: bool = True,
 
 
 def atomic_write_bytes(path: str | Path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically and return the file actually written.
+    """Write `data` to `path` atomically and return the file actually written.
 
-    An existing file keeps its permission bits; a new one gets ``0o666 & ~umask`` like
-    any file the user creates (``mkstemp`` alone would give 0600).
+    An existing file keeps its permission bits; a new one gets `0o666 & ~umask` like
+    any file the user creates (`mkstemp` alone would give 0600).
     """
     path = Path(path)
     target = _follow_links(path)
@@ -79,11 +79,15 @@ def _replace_keeping_mode(target: Path, data: bytes, *, sync_folder: bool) -> No
 
 @dataclass(frozen=True)
 class Written:
-    """Where :meth:`OutputWriter.write` put its bytes.
+    """Where `OutputWriter.write` put its bytes.
 
-    path : the file holding them (a symbolic link's final target).
-    untouched : the file already held exactly these bytes and was left as it was (same
-        inode, same modification time).
+    Attributes
+    ----------
+    path : Path
+        The file holding them (a symbolic link's final target).
+    untouched : bool
+        The file already held exactly these bytes and was left as it was (same inode, same
+        modification time).
     """
 
     path: Path
@@ -91,13 +95,13 @@ class Written:
 
 
 class OutputWriter:
-    """Writes many outputs of one run, each atomically (:func:`replace_file`).
+    """Writes many outputs of one run, each atomically (`replace_file`).
 
-    Differences from calling :func:`atomic_write_bytes` per file: a file that already holds
+    Differences from calling `atomic_write_bytes` per file: a file that already holds
     exactly the new bytes is left untouched (a second run over the same output folder
     rewrites nothing, and tools watching modification times see no change), and each
-    folder is fsynced once, by :meth:`close`, after all its files rather than after each.
-    Every file's own data is still fsynced before its rename, so until :meth:`close`
+    folder is fsynced once, by `close`, after all its files rather than after each.
+    Every file's own data is still fsynced before its rename, so until `close`
     returns a crash can lose a rename (the old file stays whole), never leave a
     half-written file. Thread-safe: a run writes from several threads at once.
     """
@@ -108,7 +112,7 @@ class OutputWriter:
         self.untouched = 0
 
     def write(self, path: str | Path, data: bytes) -> Written:
-        """Make the file at ``path`` hold ``data``; raises :class:`OutputError`."""
+        """Make the file at `path` hold `data`; raises `OutputError`."""
         path = Path(path)
         target = _follow_links(path)
         try:
@@ -146,7 +150,7 @@ class OutputWriter:
 
 
 def _holds(target: Path, data: bytes) -> bool:
-    """``target`` is a regular file whose bytes are exactly ``data`` (False if missing)."""
+    """`target` is a regular file whose bytes are exactly `data` (False if missing)."""
     try:
         with open(target, "rb") as fh:
             st = os.fstat(fh.fileno())
@@ -158,7 +162,7 @@ def _holds(target: Path, data: bytes) -> bool:
 
 
 def write_in_place(path: str | Path, data: bytes, backup_suffix: str = ".bak") -> Path:
-    """Replace the file at ``path`` (its symlink target) keeping ``<target><suffix>``.
+    """Replace the file at `path` (its symlink target) keeping `<target><suffix>`.
 
     The backup is a complete copy of the file as it was, written atomically before the
     file itself is touched (an older backup of the same name is replaced). Returns the
@@ -189,7 +193,7 @@ def write_in_place(path: str | Path, data: bytes, backup_suffix: str = ".bak") -
 
 
 def _follow_links(path: Path) -> Path:
-    """The file a write to ``path`` must replace: the final target of a symlink chain."""
+    """The file a write to `path` must replace: the final target of a symlink chain."""
     return Path(os.path.realpath(path)) if path.is_symlink() else path
 
 

@@ -1,9 +1,9 @@
 """The exception hierarchy. The CLI turns any of these into one line and exit code 2.
 
-Every exception carries the :class:`~urdfinertia.rules.Rule` of its problem: the class
-gives a default and the raiser may name a finer one (``MeshError(cause,
-rule=Rule.MESH_NO_VOLUME)``). Where one bad element does not sink the robot, the error
-becomes a :class:`~urdfinertia.findings.Finding` of that rule; reports read the rule,
+Every exception carries the [`Rule`][urdfinertia.rules.Rule] of its problem: the class
+gives a default and the raiser may name a finer one (`MeshError(cause,
+rule=Rule.MESH_NO_VOLUME)`). Where one bad element does not sink the robot, the error
+becomes a [`Finding`][urdfinertia.findings.Finding] of that rule; reports read the rule,
 never the message's words.
 """
 
@@ -24,14 +24,14 @@ class UrdfInertiaError(Exception):
     cause : str
         What is wrong, without the location.
     rule : Rule
-        The rule of the problem (the class's :attr:`default_rule` unless the raiser named
+        The rule of the problem (the class's `default_rule` unless the raiser named
         another).
     file, line, link : str, int, str or None
         Where, as far as known.
     """
 
-    #: the rule of the class's problems, when the raiser names none
     default_rule = Rule.DESCRIPTION_UNREADABLE
+    """The rule of the class's problems, when the raiser names none."""
 
     def __init__(
         self,
@@ -57,7 +57,22 @@ class UrdfInertiaError(Exception):
     def with_context(
         self, *, file: str | Path | None = None, line: int | None = None, link: str | None = None
     ) -> UrdfInertiaError:
-        """Fill in context the raiser did not know (never overwrites what is set)."""
+        """Fill in context the raiser did not know (never overwrites what is set).
+
+        Parameters
+        ----------
+        file : str or Path, optional
+            The file the error is about.
+        line : int, optional
+            Its line.
+        link : str, optional
+            The link it is about.
+
+        Returns
+        -------
+        UrdfInertiaError
+            This error, for `raise exc.with_context(...)`.
+        """
         if self.file is None and file is not None:
             self.file = str(file)
         if self.line is None and line is not None:
@@ -83,11 +98,11 @@ class UrdfError(UrdfInertiaError):
 class MeshError(UrdfInertiaError):
     """A referenced mesh is missing, unreadable, unsupported or unusable.
 
-    Rules: :attr:`~Rule.MESH_UNRESOLVED` (no such file, or a ``package://`` or
-    ``model://`` that names no known folder), :attr:`~Rule.MESH_REFUSED` (a remote or
-    non-file URI), :attr:`~Rule.MESH_TOO_LARGE` (over the size, face or time limit),
-    :attr:`~Rule.MESH_NO_VOLUME` (encloses no volume), :attr:`~Rule.MESH_ABSURD` (a unit
-    or coordinates no mesh has), :attr:`~Rule.GEOMETRY_UNREADABLE` (anything else).
+    Rules: `MESH_UNRESOLVED` (no such file, or a `package://` or
+    `model://` that names no known folder), `MESH_REFUSED` (a remote or
+    non-file URI), `MESH_TOO_LARGE` (over the size, face or time limit),
+    `MESH_NO_VOLUME` (encloses no volume), `MESH_ABSURD` (a unit
+    or coordinates no mesh has), `GEOMETRY_UNREADABLE` (anything else).
     """
 
     default_rule = Rule.GEOMETRY_UNREADABLE

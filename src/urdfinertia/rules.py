@@ -1,18 +1,19 @@
-"""The rule registry: every kind of finding, once, with what it means and what ``fix`` does.
+"""The rule registry: every kind of finding, once, with what it means and what `fix` does.
 
-Each code is a member of :class:`Rule` (a string Enum: ``Rule.PLACEHOLDER_INERTIA ==
-"placeholder-inertia"``) and carries its stable id (``UI111``: SARIF ``ruleId``, baselines),
-its :class:`Severity`, its :class:`Scope` (what in the file a finding points at), what
-``fix`` does about it (:class:`FixAction`) and its documentation (meaning, an example, how
-to silence it). The rules page of the documentation is generated from this table, and no
-code is spelled as a literal anywhere else.
+Each code is a member of [Rule][urdfinertia.rules.Rule], a string Enum
+(`Rule.PLACEHOLDER_INERTIA == "placeholder-inertia"`), and carries its stable id (`UI111`:
+SARIF `ruleId`, baselines), its [Severity][urdfinertia.rules.Severity], its
+[Scope][urdfinertia.rules.Scope] (what in the file a finding points at), what `fix` does
+about it ([FixAction][urdfinertia.rules.FixAction]) and its documentation (meaning, an
+example, how to silence it). The rules page of the documentation is generated from this
+table, and no code is spelled as a literal anywhere else.
 
 This is a leaf module: it imports nothing of the package. An id is never reused or
 renumbered (baselines and code-scanning alerts are keyed on it); new kinds go at the end of
 their block. UI1xx: the written values; UI2xx: against the geometry; UI3xx: the robot as
 simulators merge it; UI4xx: loading and stepping in the engines; UI5xx: what the reader read
 past; UI6xx: what the author meant, across links; UI7xx: the whole robot; UI8xx: what
-``fix`` did and why (notes on its verdicts).
+`fix` did and why (notes on its verdicts).
 """
 
 from __future__ import annotations
@@ -22,65 +23,84 @@ from enum import StrEnum
 
 
 class Severity(StrEnum):
-    """How bad a finding is: "error" (a simulator refuses it or misbehaves), "warning"
-    (very likely wrong), "info" (worth knowing; never fails a run)."""
+    """How bad a finding is."""
 
     ERROR = "error"
+    """A simulator refuses it or misbehaves: `check` exits 1."""
     WARNING = "warning"
+    """Very likely wrong: `check --strict` exits 1."""
     INFO = "info"
+    """Worth knowing; never fails a run."""
 
     @property
     def rank(self) -> int:
-        """0 for errors, 1 for warnings, 2 for info: sort order, worst first."""
+        """The sort order, worst first: 0 for errors, 1 for warnings, 2 for info."""
         return (Severity.ERROR, Severity.WARNING, Severity.INFO).index(self)
 
 
 class Scope(StrEnum):
     """What a finding points at in the file (its SARIF region)."""
 
-    #: the link's ``<inertial>`` (or the MJCF ``<inertial>``, the USD MassAPI)
     INERTIAL = "inertial"
-    #: the link (or body) element
+    """The link's `<inertial>` (or the MJCF `<inertial>`, the USD MassAPI)."""
     LINK = "link"
-    #: one element of a link: a ``<collision>``, ``<visual>``, geom or mesh reference
+    """The link (or body) element."""
     ELEMENT = "element"
-    #: a joint
+    """One element of a link: a `<collision>`, `<visual>`, geom or mesh reference."""
     JOINT = "joint"
-    #: the document as a whole
+    """A joint."""
     ROBOT = "robot"
+    """The document as a whole."""
 
 
 class FixAction(StrEnum):
-    """What ``fix`` (default options) does about a finding of a rule."""
+    """What `fix` (default options) does about a finding of a rule."""
 
-    #: derives the values it distrusts from the geometry that represents the body; keeps
-    #: the rest (a plausible mass, a CoM inside the body)
     RECOMPUTE = "recompute"
-    #: the minimal repair: mass and CoM kept, the tensor lifted just enough to be valid
+    """Derives the values it distrusts from the geometry that represents the body; keeps the rest
+    (a plausible mass, a CoM inside the body).
+    """
     REPAIR = "repair"
-    #: undoes the slip: one edit of the written values
+    """The minimal repair: mass and CoM kept, the tensor lifted just enough to be valid."""
     CORRECT = "correct"
-    #: keeps the values as written: the finding is advice or a note
+    """Undoes the slip: one edit of the written values."""
     KEEP = "keep"
-    #: nothing: the finding is not about a value ``fix`` writes
+    """Keeps the values as written: the finding is advice or a note."""
     NONE = "none"
+    """Nothing: the finding is not about a value `fix` writes."""
 
 
 @dataclass(frozen=True)
 class RuleInfo:
-    """The registry's row for one rule (see :class:`Rule`)."""
+    """The registry's row for one rule (see [Rule][urdfinertia.rules.Rule]).
+
+    Attributes
+    ----------
+    id : str
+        The stable id, "UI111": SARIF's `ruleId`, the key of baselines.
+    severity : Severity
+        How bad a finding of this rule is.
+    scope : Scope
+        What in the file a finding points at.
+    fix : FixAction
+        What `fix` (default options) does about it.
+    summary : str
+        One line, as tables and SARIF's short description say it.
+    meaning : str
+        What it means and why it matters (a paragraph).
+    example : str
+        A finding of this kind as the tool prints it, or the input that gives one.
+    silence : str
+        How to silence it when it is intended (empty: record it in a baseline).
+    """
 
     id: str
     severity: Severity
     scope: Scope
     fix: FixAction
-    #: one line, as tables and SARIF's short description say it
     summary: str
-    #: what it means and why it matters (a paragraph)
     meaning: str
-    #: a finding of this kind as the tool prints it, or the input that gives one
     example: str
-    #: how to silence it when it is intended
     silence: str = ""
 
 
@@ -91,8 +111,19 @@ _GEOMETRY = ("fix the geometry, or pass `--geometry collision|visual` to judge a
 
 
 class Rule(StrEnum):
-    """Every kind of finding. ``Rule.X.id``, ``.severity``, ``.scope``, ``.fix``,
-    ``.summary``, ``.meaning``, ``.example`` and ``.silence`` come from the registry table."""
+    """Every kind of finding: a string Enum whose value is the code ("placeholder-inertia").
+
+    `Rule.X.id`, `.severity`, `.scope`, `.fix`, `.summary`, `.meaning`, `.example` and
+    `.silence` come from the registry's row ([RuleInfo][urdfinertia.rules.RuleInfo]); the
+    rules page of the documentation lists every member with them.
+
+    Examples
+    --------
+    >>> Rule.PLACEHOLDER_INERTIA.id
+    'UI111'
+    >>> Rule.by_id("UI204") is Rule.INERTIA_VS_GEOMETRY
+    True
+    """
 
     # UI1xx: the written values
     MISSING_INERTIAL = "missing-inertial"
@@ -199,48 +230,73 @@ class Rule(StrEnum):
 
     @property
     def info(self) -> RuleInfo:
+        """The registry's row of this rule."""
         return _TABLE[self]
 
     @property
     def id(self) -> str:
+        """The stable id ("UI111")."""
         return _TABLE[self].id
 
     @property
     def severity(self) -> Severity:
+        """How bad a finding of this rule is."""
         return _TABLE[self].severity
 
     @property
     def scope(self) -> Scope:
+        """What in the file a finding of this rule points at."""
         return _TABLE[self].scope
 
     @property
     def fix(self) -> FixAction:
+        """What `fix` (default options) does about it."""
         return _TABLE[self].fix
 
     @property
     def summary(self) -> str:
+        """One line, as tables and SARIF's short description say it."""
         return _TABLE[self].summary
 
     @property
     def meaning(self) -> str:
+        """What it means and why it matters (a paragraph)."""
         return _TABLE[self].meaning
 
     @property
     def example(self) -> str:
+        """A finding of this kind as the tool prints it, or the input that gives one."""
         return _TABLE[self].example
 
     @property
     def silence(self) -> str:
+        """How to silence it when it is intended (by default: record it in a baseline)."""
         return _TABLE[self].silence or _BASELINE
 
     @property
     def anchor(self) -> str:
-        """The rule's anchor on the rules page (``rules.md#ui111``)."""
+        """The rule's anchor on the rules page of the documentation ("ui111": `rules/#ui111`)."""
         return self.id.lower()
 
     @classmethod
     def by_id(cls, rule_id: str) -> Rule:
-        """The rule with id ``rule_id`` ("UI111"); KeyError if there is none."""
+        """The rule whose stable id is `rule_id`.
+
+        Parameters
+        ----------
+        rule_id : str
+            A stable id, "UI111".
+
+        Returns
+        -------
+        Rule
+            The member with that id.
+
+        Raises
+        ------
+        KeyError
+            When no rule has that id.
+        """
         for rule in cls:
             if rule.id == rule_id:
                 return rule

@@ -11,16 +11,19 @@ The convention (also stated in ``docs/contributing.md``):
   state their facts with ``assert``.
 - Blocks in any other language (``sh``, ``text``, ``toml``, ``yaml``, ...) are syntax
   templates, files or abridged illustrations, and are not run.
-- An HTML comment right before a console block, ``<!-- keep: REGEX -->``, tells
-  :func:`regenerate` to keep only the output lines that match REGEX (to abridge wide tables).
+- A block shows the whole output of its commands: nothing is filtered out of it. A command
+  whose output is too long for the page cuts it itself, where the reader sees it
+  (``| head -n 12``), and the page says so. Output is generated :data:`WIDTH` columns wide,
+  what the site's content column holds.
 
 Every page runs in a fresh folder holding a copy of the repository's ``robots/`` folder,
 with ``ERD`` set to example-robot-data's ``robots`` folder and the ``urdf-inertia`` of this
 interpreter's environment first on ``PATH``. Paths of that folder and of ``ERD`` are written
 as ``$ERD`` and left out when outputs are compared or rewritten.
 
-What is checked, loosely so that layout changes do not matter: the exit code, and that every
-number printed in the documented output is also printed by the real run.
+What is checked: the exit code, that the documented output has as many lines as the real
+run printed (nothing left out), and that every number it shows is also printed by the real
+run (loosely: the layout of a line is not compared).
 """
 
 from __future__ import annotations
@@ -39,12 +42,15 @@ from support.corpus import example_robot_data_robots
 ROOT = Path(__file__).resolve().parents[2]
 RUN_LANGUAGES = ("console", "python")
 _FENCE = re.compile(r"^(`{3,})([\w+-]*)\s*$")
-_KEEP = re.compile(r"^<!--\s*keep:\s*(.*?)\s*-->\s*$")
+#: An abridging comment of an older convention: refused (a page must show what ran).
+_KEEP = re.compile(r"^<!--\s*keep:")
 _EXIT = re.compile(r"#\s*exit\s+(\d+)\b")
 #: Numbers as printed: integers, decimals and exponents (``1.175e-06``, ``-0.0475``, ``81``).
 _NUMBER = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
-#: The width of plain-text output (piped) is the tool's own; this keeps other tools narrow.
-_ENV_EXTRA = {"COLUMNS": "120", "NO_COLOR": "1", "TERM": "dumb", "PYTHONHASHSEED": "0"}
+#: Columns of the examples' output: the tool's tables (and other tools) fit the site's
+#: content column at this width (docs/stylesheets/extra.css), so no block is cut sideways.
+WIDTH = 100
+_ENV_EXTRA = {"COLUMNS": str(WIDTH), "NO_COLOR": "1", "TERM": "dumb", "PYTHONHASHSEED": "0"}
 
 
 def doc_files() -> list[Path]:
@@ -65,7 +71,6 @@ class Block:
     line: int  # 1-based line of the opening fence
     language: str
     lines: list[str]  # the block's content
-    keep: str | None = None
     commands: list[Command] = field(default_factory=list)
 
     @property
@@ -88,10 +93,10 @@ def blocks(path: Path) -> list[Block]:
         while end < len(lines) and lines[end].rstrip() != fence:
             end += 1
         if language in RUN_LANGUAGES:
-            keep = None
-            if i > 0 and (k := _KEEP.match(lines[i - 1])):
-                keep = k.group(1)
-            block = Block(path, i + 1, language, lines[i + 1:end], keep)
+            if i > 0 and _KEEP.match(lines[i - 1]):
+                raise ValueError(f"{path.name}:{i}: a 'keep:' comment filters the output a "
+                                 "reader would see; show it whole or cut it in the command")
+            block = Block(path, i + 1, language, lines[i + 1:end])
             if language == "console":
                 block.commands = _commands(block)
             found.append(block)
@@ -199,6 +204,11 @@ def check_command(ws: Workspace, block: Block, command: Command) -> list[str]:
     if code != command.exit_code:
         problems.append(f"{block.where}: `{command.text}` exited {code}, the page says "
                         f"{command.exit_code}; it printed:\n" + "\n".join(lines[-15:]))
+    if len(command.output) != len(lines):
+        problems.append(f"{block.where}: `{command.text}` printed {len(lines)} line(s), the "
+                        f"page shows {len(command.output)}: show the whole output (or cut it "
+                        "in the command, `| head -n N`); regenerate with "
+                        "scripts/regen_docs.py")
     missing = unmatched(numbers(command.output), numbers(lines))
     if missing:
         problems.append(f"{block.where}: `{command.text}` no longer prints "
@@ -206,12 +216,36 @@ def check_command(ws: Workspace, block: Block, command: Command) -> list[str]:
     return problems
 
 
-def check_file(path: Path) -> list[str]:
-    """Run every example of one page; the problems found (empty: all agree)."""
+_RELATIVE_PACKAGE_DIR = re.compile(r"(--package-dir\s+[\w.-]+=)(?![/$~])(\S+)")
+_RELATIVE_DIRS_ENTRY = re.compile(r'("[\w.-]+"):\s*"(?![/$~])([^"]+)"')
+
+
+def absolute_package_dirs(block: Block) -> Block:
+    """The block with every relative package folder made absolute (from the working
+    directory): ``--package-dir NAME=DIR`` in commands, ``{"NAME": "DIR"}`` entries of the
+    Python assignments to a name of package folders (``dirs = {...}``)."""
+    if block.language == "python":
+        lines = [_RELATIVE_DIRS_ENTRY.sub(r'\1: __import__("os").path.abspath("\2")', ln)
+                 if re.match(r"\s*\w*dirs\s*=\s*\{", ln) else ln for ln in block.lines]
+        return Block(block.path, block.line, block.language, lines)
+    commands = [Command(_RELATIVE_PACKAGE_DIR.sub(r"\1$PWD/\2", c.text), c.output,
+                        c.exit_code) for c in block.commands]
+    return Block(block.path, block.line, block.language, block.lines, commands)
+
+
+def check_file(path: Path, *, absolute_dirs: bool = False) -> list[str]:
+    """Run every example of one page; the problems found (empty: all agree).
+
+    ``absolute_dirs`` runs the page with its relative package folders made absolute
+    (:func:`absolute_package_dirs`): what tells a failure of the resolution of relative
+    ``--package-dir`` folders from any other.
+    """
     ws = Workspace()
     problems: list[str] = []
     try:
         for block in blocks(path):
+            if absolute_dirs:
+                block = absolute_package_dirs(block)
             if block.language == "python":
                 ws.exec_python(block)
                 continue
@@ -222,14 +256,19 @@ def check_file(path: Path) -> list[str]:
     return problems
 
 
-def regenerate(path: Path) -> int:
-    """Rerun a page's console blocks and write their real output into it; commands run."""
+def regenerate(path: Path, *, absolute_dirs: bool = False) -> int:
+    """Rerun a page's console blocks and write their real output into it; commands run.
+
+    ``absolute_dirs``: run them with relative package folders made absolute (the page
+    keeps them as written; see :func:`check_file`)."""
     text = path.read_text(encoding="utf-8").splitlines()
     ws = Workspace()
     replaced: dict[int, list[str]] = {}  # fence line index -> new block content
     count = 0
     try:
         for block in blocks(path):
+            if absolute_dirs:
+                block = absolute_package_dirs(block)
             if block.language == "python":
                 ws.exec_python(block)
                 continue
@@ -247,8 +286,6 @@ def regenerate(path: Path) -> int:
                 if code != command.exit_code:
                     raise SystemExit(f"{block.where}: `{command.text}` exited {code}, "
                                      f"expected {command.exit_code}:\n" + "\n".join(lines))
-                if block.keep is not None:
-                    lines = [ln for ln in lines if re.search(block.keep, ln)]
                 body += lines
                 count += 1
             replaced[block.line - 1] = body

@@ -1,4 +1,4 @@
-"""Many files at once: inputs (:mod:`.inputs`), the run with each mesh computed once
-(:mod:`.run`), worker pools and Dask (:mod:`.executors`) and whole-file results in the
-cache (:mod:`.file_cache`). May import: everything but the CLI.
+"""Many files at once: inputs (`.inputs`), the run with each mesh computed once
+(`.run`), worker pools and Dask (`.executors`) and whole-file results in the
+cache (`.file_cache`). May import: everything but the CLI.
 """

@@ -12,16 +12,17 @@ if TYPE_CHECKING:
     from urdfinertia.batch.run import BatchSettings
     from urdfinertia.cache.library import MeshLibrary
 
-#: Bytes of mesh files whose display copies are missing from the cache from which they are
-#: made by worker processes (with -j): reading and decimating costs about 0.15 s per MB
-#: of COLLADA (baxter's visuals), a forked worker a few tenths of a second.
 DISPLAY_WORKERS_FROM_BYTES = 4 << 20
+"""Bytes of mesh files whose display copies are missing from the cache from which they are made by
+worker processes (with -j): reading and decimating costs about 0.15 s per MB of COLLADA (baxter's
+visuals), a forked worker a few tenths of a second.
+"""
 
 
 def prepare_display(urdf: Path, meshes: MeshLibrary, view: str, view_faces: int,
                     settings: BatchSettings) -> None:
-    """Make the display copies the 3-D view of ``urdf`` needs that the cache lacks in
-    worker processes (``settings``: -j, --dask), into the cache, so that building the
+    """Make the display copies the 3-D view of `urdf` needs that the cache lacks in
+    worker processes (`settings`: -j, --dask), into the cache, so that building the
     scene only reads them."""
     from urdfinertia.descriptions.formats import read_description
     from urdfinertia.errors import UrdfInertiaError

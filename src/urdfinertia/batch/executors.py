@@ -52,7 +52,7 @@ def open_executor(jobs: int, dask: str | None) -> Iterator[cf.Executor | None]:
 
 
 def connect_dask(address: str, timeout: str = "20s"):
-    """A ``distributed.Client`` for the scheduler at ``address``."""
+    """A `distributed.Client` for the scheduler at `address`."""
     try:
         from distributed import Client
     except ImportError:
@@ -66,6 +66,22 @@ def connect_dask(address: str, timeout: str = "20s"):
 
 
 def submit(pool: cf.Executor, fn, *args) -> cf.Future:
+    """`pool.submit(fn, *args)`, or a failed future when the pool is broken.
+
+    Parameters
+    ----------
+    pool : Executor
+        The pool.
+    fn : callable
+        The task.
+    *args
+        Its arguments.
+
+    Returns
+    -------
+    Future
+        The task's future (holding the pool's error when it could not be submitted).
+    """
     try:
         return pool.submit(fn, *args)
     except Exception as exc:  # noqa: BLE001 - a broken pool fails the remaining tasks

@@ -1,14 +1,14 @@
 """Whole-file results in the cache: a warm batch run skips the URDFs nothing changed in.
 
-An entry is keyed by the URDF's bytes and location, every :class:`FixOptions` field, the
-package search path variables and a digest of this package's whole source. It records the
-fixed document, the summary of the run, and each mesh the result depends on as
-``(uri, urdf folder, resolved path, content key)``. It is used only when every mesh URI
-still resolves to the same file and every such file still has the same content key
-(:func:`cache.file_entry_key`, a hash of its bytes), so an edited mesh, a new package
-folder or different options never meet an old result. The stored document carries its own
-digest: a truncated or altered entry is ignored. Runs with a decomposition spec are
-not cached at this level (the spec's files are further inputs).
+An entry is keyed by the URDF's bytes and location, every
+[`FixOptions`][urdfinertia.body.options.FixOptions] field, the package search path variables and a
+digest of this package's whole source. It records the fixed document, the summary of the run, and
+each mesh the result depends on as `(uri, urdf folder, resolved path, content key)`. It is used only
+when every mesh URI still resolves to the same file and every such file still has the same content
+key (`cache.file_entry_key`, a hash of its bytes), so an edited mesh, a new package folder or
+different options never meet an old result. The stored document carries its own digest: a truncated
+or altered entry is ignored. Runs with a decomposition spec are not cached at this level (the spec's
+files are further inputs).
 
 A file that fails for a reason fixed by its inputs alone (its XML, a mesh URI that does
 not resolve, a mesh the repair rejects for its bytes, masses that do not add up) is stored
@@ -44,9 +44,9 @@ _ENV = ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH")
 def result_key(data: bytes, source: Path, options: FixOptions,
                real_path: RealPaths | None = None,
                fields: list[tuple[str, str]] | None = None) -> str | None:
-    """Key of the result of fixing ``source`` (bytes ``data``); None when not cacheable.
+    """Key of the result of fixing `source` (bytes `data`); None when not cacheable.
 
-    ``fields``: :func:`option_fields` of ``options``, when the caller has them.
+    `fields`: `option_fields` of `options`, when the caller has them.
     """
     if options.spec is not None:
         return None
@@ -61,13 +61,14 @@ def result_key(data: bytes, source: Path, options: FixOptions,
 
 
 def option_fields(options: FixOptions) -> list[tuple[str, str]]:
-    """(name, repr) of every :class:`FixOptions` field: part of every key."""
+    """(name, repr) of every [`FixOptions`][urdfinertia.body.options.FixOptions] field: part of
+    every key."""
     return [(f.name, repr(getattr(options, f.name))) for f in dataclasses.fields(options)]
 
 
 @dataclasses.dataclass(frozen=True)
 class CachedResult:
-    """A file's fixed document and summary, or (``error`` set) its one-line error."""
+    """A file's fixed document and summary, or (`error` set) its one-line error."""
 
     robot: str
     links: int
@@ -80,7 +81,7 @@ class CachedResult:
 
 
 def encode(key: str, deps: list[list[str]], result: CachedResult, source: str = "") -> bytes:
-    """Entry bytes; ``source`` is the URDF's path as spelled (checked for errors only).
+    """Entry bytes; `source` is the URDF's path as spelled (checked for errors only).
 
     The body is the fixed document, or for an error its message (UTF-8), under the digest.
     """
@@ -158,10 +159,22 @@ class FileResults:
         self.hits = 0
 
     def path(self, key: str) -> Path:
+        """The entry file of `key`.
+
+        Parameters
+        ----------
+        key : str
+            A file entry's key.
+
+        Returns
+        -------
+        Path
+            Where it is stored.
+        """
         return self.cache.files_folder / key[:2] / f"{key}.entry"
 
     def mesh_key(self, path: str) -> str | None:
-        """:func:`cache.file_entry_key` of the file at ``path`` (a string: no Path object
+        """`cache.file_entry_key` of the file at `path` (a string: no Path object
         is built per mesh)."""
         if path not in self._mesh_keys:
             digest = self.cache.digests.digest(path, self._limit)
@@ -170,7 +183,7 @@ class FileResults:
         return self._mesh_keys[path]
 
     def lookup(self, source: Path) -> tuple[CachedResult, bytes] | None:
-        """(cached result, original bytes) for ``source``, if still valid."""
+        """(cached result, original bytes) for `source`, if still valid."""
         try:
             data = source.read_bytes()
         except OSError:
@@ -191,7 +204,7 @@ class FileResults:
         return found[1], data
 
     def _real_path(self, uri: str, folder: str) -> str | MeshError:
-        """The resolved file ``uri`` names from ``folder`` or why there is none, memoised
+        """The resolved file `uri` names from `folder` or why there is none, memoised
         per run (resolving walks the tree)."""
         key = (uri, folder)
         found = self._real.get(key)
@@ -222,8 +235,8 @@ class FileResults:
 
     def store(self, source: Path, trace: tuple[tuple[str, str, str], ...],
               result: CachedResult) -> None:
-        """Remember a fresh result; ``trace`` lists the meshes it was computed from (a
-        path of ``""``: the URI did not resolve)."""
+        """Remember a fresh result; `trace` lists the meshes it was computed from (a
+        path of `""`: the URI did not resolve)."""
         known = self.keys.get(source)
         if known is None:
             return
@@ -247,14 +260,14 @@ class FileResults:
 
 
 def _strings(items: object) -> TypeGuard[list[str]]:
-    """``items`` is a list of strings (a JSON value: see :func:`_string_rows`)."""
+    """`items` is a list of strings (a JSON value: see `_string_rows`)."""
     return type(items) is list and set(map(type, items)) <= {str}
 
 
 def _string_rows(rows: object, width: int) -> TypeGuard[list[list[str]]]:
-    """``rows`` is a list of lists of ``width`` strings each (a JSON value: its types are
-    exactly ``list`` and ``str``, so ``type(...) is`` suffices). One pass over the strings
-    by ``map``, not a generator per row: a warm run checks some 20,000 of them."""
+    """`rows` is a list of lists of `width` strings each (a JSON value: its types are
+    exactly `list` and `str`, so `type(...) is` suffices). One pass over the strings
+    by `map`, not a generator per row: a warm run checks some 20,000 of them."""
     if type(rows) is not list:
         return False
     if not all(type(r) is list and len(r) == width for r in rows):
@@ -263,7 +276,7 @@ def _string_rows(rows: object, width: int) -> TypeGuard[list[list[str]]]:
 
 
 def _suffix(path: str) -> str:
-    """``Path(path).suffix`` without building the Path."""
+    """`Path(path).suffix` without building the Path."""
     name = os.path.basename(path)
     dot = name.rfind(".")
     return name[dot:] if 0 < dot < len(name) - 1 else ""

@@ -3,10 +3,10 @@
 A worker process repairs mesh after mesh. glibc's allocator keeps much of what a large
 mesh's arrays freed on its heap (numpy's large blocks move its mmap threshold up, so
 later ones come from the heap too), and the next mesh's peak adds to what the process
-already holds. ``malloc_trim(0)`` returns the free pages; the arrays themselves, hence
+already holds. `malloc_trim(0)` returns the free pages; the arrays themselves, hence
 the results, are untouched. A trim costs system time (the pages it returns fault in again
 for the next mesh), so it is done only while the process holds more than
-:data:`TRIM_ABOVE`: after a large mesh, not between small ones.
+`TRIM_ABOVE`: after a large mesh, not between small ones.
 """
 
 from __future__ import annotations
@@ -22,12 +22,13 @@ try:
 except (AttributeError, ValueError, OSError):  # not a POSIX system
     _PAGE = 4096
 
-#: Resident size (bytes) above which freed memory is handed back: a worker holds about
-#: 150 MB after its imports; only a large mesh's leftovers take it past this.
 TRIM_ABOVE = 192 * 2**20
+"""Resident size (bytes) above which freed memory is handed back: a worker holds about 150 MB after
+its imports; only a large mesh's leftovers take it past this.
+"""
 
-#: glibc's ``malloc_trim``, once looked up; False where there is none.
 _TRIM: Callable[[int], int] | bool | None = None
+"""Glibc's `malloc_trim`, once looked up; False where there is none."""
 
 
 def _malloc_trim() -> Callable[[int], int] | None:
@@ -47,7 +48,7 @@ def _malloc_trim() -> Callable[[int], int] | None:
 
 
 def resident_bytes() -> int | None:
-    """The process's resident set size, from ``/proc/self/statm``; None where unreadable."""
+    """The process's resident set size, from `/proc/self/statm`; None where unreadable."""
     try:
         with open("/proc/self/statm", "rb") as f:
             pages = int(f.read().split()[1])
@@ -57,9 +58,9 @@ def resident_bytes() -> int | None:
 
 
 def release_free_memory(above: int | None = TRIM_ABOVE) -> bool:
-    """Return the allocator's free memory to the system (glibc's ``malloc_trim(0)``).
+    """Return the allocator's free memory to the system (glibc's `malloc_trim(0)`).
 
-    Only while the process holds more than ``above`` bytes (None: always). Returns
+    Only while the process holds more than `above` bytes (None: always). Returns
     whether it was done: False below that size, where there is no glibc or the call
     failed; the process then goes on as it was.
     """

@@ -19,18 +19,18 @@ class FileJob:
     output: Path | None = None
 
 
-#: Suffixes a folder is searched for (any case). ``.xml`` files count only when their root
-#: element is a registered format's (MJCF's ``<mujoco>``): a folder holds ``package.xml``
-#: and launch files too. xacro sources are taken only when named: a package's many macro
-#: files are not robots.
 FOLDER_SUFFIXES = (".urdf", ".sdf", ".world")
+"""Suffixes a folder is searched for (any case). `.xml` files count only when their root element
+is a registered format's (MJCF's `<mujoco>`): a folder holds `package.xml` and launch files
+too. xacro sources are taken only when named: a package's many macro files are not robots.
+"""
 
 
 def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJob]:
-    """The descriptions named by ``inputs`` (files, and folders searched recursively for
-    ``*.urdf``, ``*.sdf``, ``*.world`` and MJCF ``*.xml``).
+    """The descriptions named by `inputs` (files, and folders searched recursively for
+    `*.urdf`, `*.sdf`, `*.world` and MJCF `*.xml`).
 
-    A file goes to ``output_dir/<name>``, a folder's files to ``output_dir/<path relative
+    A file goes to `output_dir/<name>`, a folder's files to ``output_dir/<path relative
     to the folder>``. Raises when an input does not exist, nothing is found, two inputs
     would be written to the same place or an output would overwrite its input.
     """
@@ -70,11 +70,11 @@ def collect_jobs(inputs: Sequence[Path], output_dir: Path | None) -> list[FileJo
 
 
 def description_files(folder: Path) -> list[Path]:
-    """Description files under ``folder`` (:data:`FOLDER_SUFFIXES`, MJCF ``.xml``),
+    """Description files under `folder` (`FOLDER_SUFFIXES`, MJCF `.xml`),
     unordered.
 
-    What ``folder.rglob("*")`` filtered on ``suffix`` and ``is_file()`` finds (symbolic
-    links to folders are not followed, links to files are kept), with ``os.walk``: pathlib
+    What `folder.rglob("*")` filtered on `suffix` and `is_file()` finds (symbolic
+    links to folders are not followed, links to files are kept), with `os.walk`: pathlib
     built a path object for every file of the tree, meshes included.
     """
     out = []
@@ -90,7 +90,7 @@ def description_files(folder: Path) -> list[Path]:
 
 
 def _is_mjcf(path: Path) -> bool:
-    """An ``.xml`` file whose root element is ``<mujoco>`` (first 64 KiB read)."""
+    """An `.xml` file whose root element is `<mujoco>` (first 64 KiB read)."""
     from urdfinertia.descriptions.formats import root_name
 
     try:

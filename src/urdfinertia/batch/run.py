@@ -1,7 +1,7 @@
 """Fix many URDFs in one run: inputs, worker processes or a Dask cluster, one outcome each.
 
-The unit of work is one file (:func:`.tasks.fix_file_task`, which calls
-:func:`urdfinertia.plan.fix.fix_robot`).
+The unit of work is one file (`.tasks.fix_file_task`, which calls
+[`urdfinertia.plan.fix.fix_robot`][urdfinertia.plan.fix.fix_robot]).
 With workers, each distinct mesh file is first read and integrated exactly once (largest
 first, results from the persistent cache when it has them), then every URDF is fixed by a
 worker with its meshes' results handed over. The parent process alone reads and writes the
@@ -45,30 +45,45 @@ if TYPE_CHECKING:
 # What reads, repairs and integrates (numpy, lxml, the mesh readers) is imported by the
 # functions that compute: a warm run, whose every file comes from the cache, needs none of it.
 
-#: Threads writing the outputs of the files that came from the cache, before any worker
-#: process starts: each write waits for its fsync, which overlap in threads.
 WRITER_THREADS = 8
-#: Bytes of mesh files still to compute below which a run stays in one process: each
-#: worker first imports numpy, scipy, trimesh and manifold3d (about 1.5 CPU seconds),
-#: and the repair takes about half a second per megabyte of mesh file (example-robot-data:
-#: 355 MB in 165 s), so two workers pay for themselves from a few megabytes on.
+"""Threads writing the outputs of the files that came from the cache, before any worker process
+starts: each write waits for its fsync, which overlap in threads.
+"""
 WORKERS_FROM_BYTES = 6 << 20
+"""Bytes of mesh files still to compute below which a run stays in one process: each worker first
+imports numpy, scipy, trimesh and manifold3d (about 1.5 CPU seconds), and the repair takes about
+half a second per megabyte of mesh file (example-robot-data: 355 MB in 165 s), so two workers pay
+for themselves from a few megabytes on.
+"""
 
 
-#: progress(kind, done, total) with kind "meshes" or "files".
 ProgressHook = Callable[[str, int, int], None]
+"""Progress(kind, done, total) with kind "meshes" or "files"."""
 
 
 @dataclass(frozen=True)
 class BatchSettings:
     """How to run: workers, cache and engine.
 
-    jobs : worker processes (1: everything in this process).
-    cache_dir : None for :func:`cache.default_cache_dir`.
-    cache_max_bytes : size bound of the cache folder.
-    dask : address of a Dask scheduler; overrides ``jobs``.
-    in_place : write results over the sources (with ``.bak``) instead of ``FileJob.output``.
-    details : keep per-link JSON-ready results (``--json``).
+    Attributes
+    ----------
+    jobs : int
+        Worker processes (1: everything in this process).
+    use_cache : bool
+        Read and store mesh solids in the cache.
+    cache_dir : Path or None
+        The cache folder; None for the default (`URDFINERTIA_CACHE_DIR`, else the user's
+        cache folder).
+    cache_max_bytes : int
+        The size bound of the cache folder.
+    dask : str or None
+        The address of a Dask scheduler; overrides `jobs`.
+    in_place : bool
+        Write results over the sources (with `.bak`) instead of `FileJob.output`.
+    details : bool
+        Keep per-link JSON-ready results (`--json`).
+    keep_mesh_paths : bool
+        Keep relative mesh references as written when the output is in another folder.
     """
 
     jobs: int = 1
@@ -78,7 +93,6 @@ class BatchSettings:
     dask: str | None = None
     in_place: bool = False
     details: bool = False
-    #: keep relative mesh references as written when the output is in another folder
     keep_mesh_paths: bool = False
 
     def __post_init__(self) -> None:
@@ -86,6 +100,13 @@ class BatchSettings:
             raise ValueError("jobs must be at least 1")
 
     def open_cache(self) -> SolidsCache | None:
+        """The mesh cache these settings ask for.
+
+        Returns
+        -------
+        SolidsCache or None
+            None with `use_cache=False`.
+        """
         if not self.use_cache:
             return None
         return SolidsCache(self.cache_dir, self.cache_max_bytes)
@@ -100,12 +121,14 @@ class BatchReport:
     cache_misses: int = 0
     warnings: tuple[str, ...] = ()
     file_hits: int = 0  # files whose whole result came from the cache
-    #: per outcome: its output file already held exactly these bytes and was left
-    #: untouched (same inode and modification time)
     up_to_date: tuple[bool, ...] = ()
+    """Per outcome: its output file already held exactly these bytes and was left untouched (same
+    inode and modification time)
+    """
 
     @property
     def failed(self) -> tuple[FileOutcome, ...]:
+        """The files that failed, in input order."""
         return tuple(o for o in self.outcomes if o.error is not None)
 
     @property
@@ -140,9 +163,9 @@ class _Run:
 
     def workers(self, needs: Sequence[Sequence[Path]],
                 point_needs: Sequence[Sequence[Path]]) -> int:
-        """How many worker processes the meshes of ``needs`` (solids) and ``point_needs``
-        (hull points) are worth: ``settings.jobs``, or 1 (this process) when what is
-        not in the cache is under :data:`WORKERS_FROM_BYTES` of mesh files (a file that
+        """How many worker processes the meshes of `needs` (solids) and `point_needs`
+        (hull points) are worth: `settings.jobs`, or 1 (this process) when what is
+        not in the cache is under `WORKERS_FROM_BYTES` of mesh files (a file that
         cannot be opened needs no work: its file's task says why)."""
         jobs = self.settings.jobs
         if jobs <= 1 or self.settings.dask:
@@ -158,7 +181,7 @@ class _Run:
         return jobs if work >= WORKERS_FROM_BYTES else 1
 
     def lookup_cache(self, path: Path) -> bool:
-        """Fill ``self.meshes[path]`` from the cache; False when it must be computed."""
+        """Fill `self.meshes[path]` from the cache; False when it must be computed."""
         if self.cache is None:
             return False
         with self.times.stage("cache"):
@@ -171,7 +194,7 @@ class _Run:
         return True
 
     def lookup_points(self, path: Path) -> bool:
-        """Fill ``self.points[path]`` from the cache; False when it must be computed."""
+        """Fill `self.points[path]` from the cache; False when it must be computed."""
         if self.cache is None:
             return False
         with self.times.stage("cache"):
@@ -186,9 +209,9 @@ class _Run:
 
     def store(self, path: Path, outcome: MeshSolids | Exception | None, faces: int,
               points: np.ndarray | None, header: dict | None = None) -> None:
-        """Keep a worker's results for ``path`` (and put them in the cache). ``header``
+        """Keep a worker's results for `path` (and put them in the cache). `header`
         is the points' cache header the worker computed
-        (:func:`~urdfinertia.cache.library.points_header`): this process runs no Qhull.
+        (`points_header`): this process runs no Qhull.
         Without one (the worker failed after reading the points) the entry holds no
         volume, and whoever needs it computes it."""
         if outcome is not None:
@@ -208,11 +231,11 @@ class _Run:
     def prepare(self, pool: cf.Executor, needs: Sequence[Sequence[Path]],
                 on_ready: Callable[[int], None],
                 point_needs: Sequence[Sequence[Path]] = ()) -> None:
-        """Compute every mesh of ``needs`` once, and the hull points of every mesh of
-        ``point_needs`` (from the same reading where both are needed); call
-        ``on_ready(i)`` when file i's solids are known.
+        """Compute every mesh of `needs` once, and the hull points of every mesh of
+        `point_needs` (from the same reading where both are needed); call
+        `on_ready(i)` when file i's solids are known.
 
-        ``on_ready`` may submit more work to ``pool``; :meth:`drain` collects it.
+        `on_ready` may submit more work to `pool`; `drain` collects it.
         """
         distinct = list(dict.fromkeys(p for paths in needs for p in paths))
         todo = [p for p in distinct if p not in self.meshes and not self.lookup_cache(p)]
@@ -318,9 +341,9 @@ def _size(path: Path) -> int:
 def prepared_library(urdfs: Sequence[Path], options: FixOptions, settings: BatchSettings,
                      cache: SolidsCache | None = None,
                      progress: ProgressHook | None = None) -> MeshLibrary:
-    """A :class:`MeshLibrary` holding the results of every mesh ``urdfs`` reference.
+    """A `MeshLibrary` holding the results of every mesh `urdfs` reference.
 
-    With ``settings.jobs > 1`` or ``settings.dask`` the meshes are computed in parallel;
+    With `settings.jobs > 1` or `settings.dask` the meshes are computed in parallel;
     otherwise they are computed lazily by the library itself.
     """
     from urdfinertia.cache.library import MeshLibrary
@@ -436,8 +459,8 @@ def _fix_all(jobs: Sequence[FileJob], todo: list[int], options: FixOptions,
              settings: BatchSettings, cache: SolidsCache | None,
              progress: ProgressHook | None, times: StageTimes,
              finish: Callable[[int, FileOutcome], None]) -> int:
-    """Compute the files ``todo`` (indices into ``jobs``), passing each outcome to
-    ``finish``; returns the number of distinct meshes used."""
+    """Compute the files `todo` (indices into `jobs`), passing each outcome to
+    `finish`; returns the number of distinct meshes used."""
     from urdfinertia.cache.library import MeshLibrary
 
     load_compute_modules()
@@ -510,7 +533,7 @@ def _from_cache(source: Path, result: CachedResult, original: bytes) -> FileOutc
 
 def _write(job: FileJob, outcome: FileOutcome, settings: BatchSettings,
            writer: OutputWriter) -> tuple[FileOutcome, bool]:
-    """Write ``outcome``'s document where ``job`` says; drop it from memory once written.
+    """Write `outcome`'s document where `job` says; drop it from memory once written.
     Also returns whether the output already held these bytes (and was left untouched)."""
     if outcome.error is not None or outcome.document is None:
         return outcome, False

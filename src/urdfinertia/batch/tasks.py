@@ -1,7 +1,7 @@
 """What one unit of a batch run does, in the parent or in a worker process.
 
-:func:`mesh_task` reads, repairs and integrates one mesh file; :func:`fix_file_task` fixes
-one URDF with its meshes' results handed over; :class:`FileOutcome` is what is reported of
+`mesh_task` reads, repairs and integrates one mesh file; `fix_file_task` fixes
+one URDF with its meshes' results handed over; `FileOutcome` is what is reported of
 one file. These functions are pickled to worker processes and Dask workers, so they take
 and return plain values.
 """
@@ -37,7 +37,7 @@ def load_compute_modules() -> None:
 
 @dataclass(frozen=True, eq=False)
 class FileOutcome:
-    """What happened to one file. ``error`` is one line; ``document`` is the fixed URDF."""
+    """What happened to one file. `error` is one line; `document` is the fixed URDF."""
 
     source: Path
     output: Path | None = None
@@ -50,25 +50,27 @@ class FileOutcome:
     details: dict | None = None
     error: str | None = None
     times: StageTimes = field(default_factory=StageTimes)
-    #: (uri, urdf folder, resolved path) of every mesh used, and a digest of the source
-    #: bytes the result was computed from: what a whole-file cache entry depends on.
     trace: tuple[tuple[str, str, str], ...] = ()
+    """(uri, urdf folder, resolved path) of every mesh used, and a digest of the source bytes the
+    result was computed from: what a whole-file cache entry depends on.
+    """
     source_digest: str = ""
-    #: The error, or the links left as they were, depend on the source bytes and the
-    #: traced meshes alone (its XML, a URI that does not resolve, a mesh rejected for its
-    #: bytes, not a permission): the outcome may be cached.
     reusable_error: bool = False
-    #: one line per link left as it was, and per problem read past
+    """The error, or the links left as they were, depend on the source bytes and the traced meshes
+    alone (its XML, a URI that does not resolve, a mesh rejected for its bytes, not a
+    permission): the outcome may be cached.
+    """
     left: tuple[str, ...] = ()
+    """One line per link left as it was, and per problem read past."""
     problems: tuple[str, ...] = ()
-    #: relative mesh references rewritten for the output's folder
     rewritten: int = 0
+    """Relative mesh references rewritten for the output's folder."""
 
 
 
 
 def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
-    """Resolved mesh files the geometry policy will read for ``source`` (best effort).
+    """Resolved mesh files the geometry policy will read for `source` (best effort).
 
     Problems are ignored here: the file's own task reports them in context.
     """
@@ -76,8 +78,8 @@ def referenced_meshes(source: Path, options: FixOptions) -> list[Path]:
 
 
 def mesh_needs(source: Path, options: FixOptions) -> tuple[list[Path], list[Path]]:
-    """``(solids, points)``: the resolved mesh files whose solids the geometry policy
-    integrates for ``source``, and those whose hull points the geometry checks read
+    """`(solids, points)`: the resolved mesh files whose solids the geometry policy
+    integrates for `source`, and those whose hull points the geometry checks read
     (every mesh of a link that has an inertial, collision and visual; and every mesh whose
     solids are integrated: a candidate's box and kind come from its points), best effort.
 
@@ -122,12 +124,12 @@ def mesh_needs(source: Path, options: FixOptions) -> tuple[list[Path], list[Path
 def mesh_task(path: str, max_faces: int, solids: bool = True,
               ) -> tuple[MeshSolids | Exception | None, int, StageTimes, np.ndarray | None,
                          dict | None]:
-    """Read one mesh file and integrate it (unless ``solids`` is False): (solids or the
+    """Read one mesh file and integrate it (unless `solids` is False): (solids or the
     error, face count, stage times, its hull points or None when it cannot be read, and
     their cache header with the hull's volume,
-    :func:`~urdfinertia.cache.library.points_header`).
+    `points_header`).
 
-    The points (:meth:`MeshLibrary.points`) come from the same reading, so no process
+    The points (`MeshLibrary.points`) come from the same reading, so no process
     reads the file again for the geometry checks; the hull's volume is computed here,
     in the worker, not by the process that gathers the results (which then needs no
     Qhull, nor scipy) nor again by each file's task. The error is returned, not raised,
@@ -158,7 +160,7 @@ def mesh_task(path: str, max_faces: int, solids: bool = True,
 
 def fix_with_library(source: Path, options: FixOptions, meshes: MeshLibrary,
                      details: bool = False) -> FileOutcome:
-    """Fix one file with ``meshes``; any failure becomes the outcome's one-line error."""
+    """Fix one file with `meshes`; any failure becomes the outcome's one-line error."""
     from urdfinertia.descriptions.formats import read_bytes, robot_from_bytes
     from urdfinertia.plan.fix import fix_robot
 
@@ -218,8 +220,8 @@ def fix_file_task(source: str, options: FixOptions,
                   details: bool = False,
                   points: Mapping[str, np.ndarray] | None = None,
                   headers: Mapping[str, dict] | None = None) -> FileOutcome:
-    """The per-file unit of work run by a worker: ``seeds`` are its meshes' results,
-    ``points`` their hull points, ``headers`` those points' cache headers (the hull's
+    """The per-file unit of work run by a worker: `seeds` are its meshes' results,
+    `points` their hull points, `headers` those points' cache headers (the hull's
     volume, so that no Qhull runs again here)."""
     from urdfinertia.cache.library import MeshLibrary
 

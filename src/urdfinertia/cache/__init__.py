@@ -1,9 +1,9 @@
-"""Each mesh computed once: per run (:mod:`.library`) and across runs (:mod:`.store`).
+"""Each mesh computed once: per run (`.library`) and across runs (`.store`).
 
-Owns :class:`~urdfinertia.cache.library.MeshLibrary` (URI -> resolved file -> solids,
+Owns `MeshLibrary` (URI -> resolved file -> solids,
 memoised per run), the persistent store of solids with its entry codec and its one lookup
-protocol (:mod:`.store`), file-content digests (:mod:`.digests`) and the one versioning
-rule of every cached result (:mod:`.version`: the package's source digest). May import:
-:mod:`urdfinertia.mesh`, :mod:`urdfinertia.descriptions` (paths), :mod:`urdfinertia.inertia`
+protocol (`.store`), file-content digests (`.digests`) and the one versioning
+rule of every cached result (`.version`: the package's source digest). May import:
+`urdfinertia.mesh`, `urdfinertia.descriptions` (paths), `urdfinertia.inertia`
 and the foundation modules; never links, analysis or the CLI.
 """

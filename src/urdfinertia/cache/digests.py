@@ -2,8 +2,8 @@
 
 Hashing every mesh of a large collection dominates a warm run. A file whose device, inode,
 size, modification and change times (nanoseconds) are those recorded with its digest has
-the same content: ``ctime`` cannot be set by programs, so rewriting a file changes it.
-Files changed less than :data:`RACY_SECONDS` before they were hashed are not remembered:
+the same content: `ctime` cannot be set by programs, so rewriting a file changes it.
+Files changed less than `RACY_SECONDS` before they were hashed are not remembered:
 within one timestamp tick a rewrite of the same size could keep every stat field ("racy
 git"). The memo is a JSON file in the cache folder; anything unexpected in it is ignored.
 """
@@ -19,19 +19,31 @@ from pathlib import Path
 
 from urdfinertia.atomic import replace_file
 
-#: Files modified this recently (seconds) are hashed every time.
 RACY_SECONDS = 2.0
-#: Memo size bound (files); beyond it, new files are hashed but not remembered.
+"""Files modified this recently (seconds) are hashed every time."""
 MAX_FILES = 200_000
+"""Memo size bound (files); beyond it, new files are hashed but not remembered."""
 MEMO_FORMAT = "urdfinertia-digests/1"
 
 
 def content_digest(data: bytes) -> str:
+    """The digest the cache keys bytes by (BLAKE2b, 160 bits).
+
+    Parameters
+    ----------
+    data : bytes
+        A file's contents.
+
+    Returns
+    -------
+    str
+        40 hex digits.
+    """
     return hashlib.blake2b(data, digest_size=20).hexdigest()
 
 
 def file_digest(path: str | Path, max_bytes: int) -> str | None:
-    """:func:`content_digest` of a regular file of at most ``max_bytes``, read in chunks.
+    """`content_digest` of a regular file of at most `max_bytes`, read in chunks.
 
     None for anything else: a FIFO (whose opening would block) or a huge file is not read.
     """
@@ -49,7 +61,7 @@ def file_digest(path: str | Path, max_bytes: int) -> str | None:
 
 
 class FileDigests:
-    """Digest memo backed by ``path`` (loaded lazily, written by :meth:`save`)."""
+    """Digest memo backed by `path` (loaded lazily, written by `save`)."""
 
     def __init__(self, path: Path) -> None:
         self.path = path
@@ -70,7 +82,7 @@ class FileDigests:
         return self._memo
 
     def digest(self, path: str | Path, max_bytes: int) -> str | None:
-        """The content digest of ``path``, from the memo when its stat signature matches."""
+        """The content digest of `path`, from the memo when its stat signature matches."""
         try:
             info = os.stat(path)
         except OSError:

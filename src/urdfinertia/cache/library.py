@@ -23,7 +23,7 @@ from urdfinertia.timing import StageTimes
 
 
 def integrate_mesh(mesh: TriangleMesh, timer: StageTimes | None = None) -> MeshSolids:
-    """Repair and integrate ``mesh``, timing repair, boolean unions and integration apart."""
+    """Repair and integrate `mesh`, timing repair, boolean unions and integration apart."""
     timer = timer if timer is not None else StageTimes()
     unions = StageTimes()
     with timer.stage("repair"):
@@ -38,13 +38,13 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
                      cache: SolidsCache | None = None,
                      timer: StageTimes | None = None,
                      read: Callable[[Path, int], TriangleMesh] | None = None) -> MeshSolids:
-    """Unscaled solids of one mesh file, from ``cache`` when it holds them (``read``
+    """Unscaled solids of one mesh file, from `cache` when it holds them (`read`
     reads the file otherwise).
 
     Raises
     ------
     MeshError
-        The file cannot be read, parsed or integrated, or has more than ``max_faces``
+        The file cannot be read, parsed or integrated, or has more than `max_faces`
         faces (also on a cache hit: the cache never changes what is accepted).
     """
     timer = timer if timer is not None else StageTimes()
@@ -70,39 +70,40 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
     return found
 
 
-#: ``reduce(vertices, faces, max_faces) -> (vertices, faces, how)`` of
-#: :meth:`MeshLibrary.display`.
 Reducer = Callable[[np.ndarray, np.ndarray, int], tuple[np.ndarray, np.ndarray, str]]
+"""`reduce(vertices, faces, max_faces) -> (vertices, faces, how)` of `MeshLibrary.display`.
+"""
 
 
-#: A mesh read for one entry (its hull points, say) is kept for the next (its solids)
-#: while the meshes kept hold at most this many faces in all (about 40 bytes a face).
 STASH_FACES = 300_000
+"""A mesh read for one entry (its hull points, say) is kept for the next (its solids) while the
+meshes kept hold at most this many faces in all (about 40 bytes a face).
+"""
 
 
 def points_of(mesh: TriangleMesh) -> np.ndarray:
-    """The :meth:`MeshLibrary.points` of ``mesh``: its used vertices' hull vertices."""
+    """The `MeshLibrary.points` of `mesh`: its used vertices' hull vertices."""
     return hull_points(mesh.vertices[used_vertices(len(mesh.vertices), mesh.faces)])
 
 
 def points_entry(mesh: TriangleMesh) -> tuple[dict, np.ndarray]:
-    """The "points" cache entry of ``mesh``: its header (:func:`points_header`) and its
-    :func:`points_of`."""
+    """The "points" cache entry of `mesh`: its header (`points_header`) and its
+    `points_of`."""
     points = points_of(mesh)
     return points_header(points), points
 
 
 def points_header(points: np.ndarray) -> dict:
     """What a "points" cache entry records besides the points: the volume of their convex
-    hull (:func:`unit_hull_volume`), so that a warm run needs no Qhull (nor scipy)."""
+    hull (`unit_hull_volume`), so that a warm run needs no Qhull (nor scipy)."""
     return {"volume": unit_hull_volume(points)}
 
 
 def unit_hull_volume(points: np.ndarray) -> float | None:
-    """Volume of the convex hull of ``points`` (n, 3); None when they span no volume.
+    """Volume of the convex hull of `points` (n, 3); None when they span no volume.
 
-    A mesh scaled by ``(sx, sy, sz)`` has the hull of its points scaled likewise, whose
-    volume is this one times ``|sx sy sz|`` (:meth:`MeshLibrary.hull_volume`): the hull is
+    A mesh scaled by `(sx, sy, sz)` has the hull of its points scaled likewise, whose
+    volume is this one times `|sx sy sz|` (`MeshLibrary.hull_volume`): the hull is
     computed once per mesh, not per scale, and kept in the cache with the points.
     """
     from scipy.spatial import ConvexHull, QhullError
@@ -127,8 +128,8 @@ def _stored_volume(header: dict) -> tuple[bool, float | None]:
 
 
 def hull_points(points: np.ndarray) -> np.ndarray:
-    """The vertices of the convex hull of ``points`` (n, 3), in input order; all of
-    ``points`` when they span no volume (flat, collinear) or are few."""
+    """The vertices of the convex hull of `points` (n, 3), in input order; all of
+    `points` when they span no volume (flat, collinear) or are few."""
     points = np.asarray(points, dtype=np.float64)
     if len(points) <= 64:
         return points
@@ -148,7 +149,7 @@ def hull_points(points: np.ndarray) -> np.ndarray:
 
 def display_entry(mesh: TriangleMesh, max_faces: int, reduce: Reducer,
                   ) -> tuple[dict, np.ndarray]:
-    """The cache entry of :meth:`MeshLibrary.display` made from ``mesh``: a header (how it
+    """The cache entry of `MeshLibrary.display` made from `mesh`: a header (how it
     was reduced, its vertex count, the file's face count) and its numbers (vertices, then
     faces)."""
     v, f, how = reduce(mesh.vertices, mesh.faces, max_faces)
@@ -170,10 +171,10 @@ def _display_valid(header: dict, numbers: np.ndarray) -> bool:
 
 
 def fresh(exc: Exception) -> Exception:
-    """A new exception equal to ``exc`` with its own attributes (context is added per use).
+    """A new exception equal to `exc` with its own attributes (context is added per use).
 
-    ``copy.copy`` is not enough: libraries such as tblib (loaded by dask) change how
-    exceptions reduce, and the copy may then share its ``__dict__``.
+    `copy.copy` is not enough: libraries such as tblib (loaded by dask) change how
+    exceptions reduce, and the copy may then share its `__dict__`.
     """
     new = copy.copy(exc)
     new.__dict__ = dict(exc.__dict__)
@@ -186,8 +187,8 @@ class MeshLibrary:
     One library is shared by all links of a run, so a mesh referenced by several links
     (left and right legs, mirrored parts) is read and integrated once; a mesh that cannot
     be used fails once and its error is repeated (results and errors computed by other
-    processes are handed in with :meth:`seed`). With a :class:`SolidsCache`, results
-    also persist between runs. ``timer`` collects the mesh stages' wall time.
+    processes are handed in with `seed`). With a `SolidsCache`, results
+    also persist between runs. `timer` collects the mesh stages' wall time.
     """
 
     def __init__(
@@ -219,7 +220,7 @@ class MeshLibrary:
         self.trace: list[tuple[str, str, str]] | None = None
 
     def resolve(self, uri: str, urdf_dir: Path) -> Path:
-        """The file ``uri`` names, memoised: package lookups walk up folders and read files."""
+        """The file `uri` names, memoised: package lookups walk up folders and read files."""
         key = (uri, urdf_dir)
         found = self._resolved.get(key)
         if found is None:
@@ -246,20 +247,20 @@ class MeshLibrary:
         return record
 
     def _key(self, path: Path) -> Path:
-        """``path.resolve()``, memoised: the key of :attr:`_memo`."""
+        """`path.resolve()`, memoised: the key of `_memo`."""
         key = self._keys.get(path)
         if key is None:
             key = self._keys[path] = Path(self._real_path(path))
         return key
 
     def seed(self, path: Path, outcome: MeshSolids | Exception) -> None:
-        """Record a result computed elsewhere (another process) for the file at ``path``."""
+        """Record a result computed elsewhere (another process) for the file at `path`."""
         self._memo[self._key(Path(path))] = outcome
 
     def seed_points(self, path: Path, points: np.ndarray, header: dict | None = None,
                     ) -> None:
-        """Record the :meth:`points` of the file at ``path`` computed elsewhere, with the
-        header of their cache entry (:func:`points_header`) when there is one."""
+        """Record the `points` of the file at `path` computed elsewhere, with the
+        header of their cache entry (`points_header`) when there is one."""
         key = self._key(Path(path))
         self._points[key] = np.asarray(points, dtype=np.float64)
         known, volume = _stored_volume(header or {})
@@ -267,7 +268,7 @@ class MeshLibrary:
             self._volumes[key] = volume
 
     def _read(self, key: Path, max_faces: int) -> TriangleMesh:
-        """The mesh file ``key``, read once while it is in the stash (kept for a later
+        """The mesh file `key`, read once while it is in the stash (kept for a later
         request: the geometry checks ask for points first, then for solids)."""
         mesh = self._stash.get(key)
         if mesh is None:
@@ -279,16 +280,28 @@ class MeshLibrary:
         return mesh
 
     def _take(self, key: Path, max_faces: int) -> TriangleMesh:
-        """The mesh file ``key`` for its solids, the last request: out of the stash, so
+        """The mesh file `key` for its solids, the last request: out of the stash, so
         no other mesh is held while it is repaired."""
         mesh = self._stash.pop(key, None)
         return mesh if mesh is not None else load_mesh(key, max_faces)
 
     def known(self, path: Path) -> bool:
+        """Whether the solids of the mesh file at `path` are already computed.
+
+        Parameters
+        ----------
+        path : Path
+            A mesh file.
+
+        Returns
+        -------
+        bool
+            True when the library holds them.
+        """
         return self._key(Path(path)) in self._memo
 
     def solids(self, path: Path) -> MeshSolids:
-        """Unscaled solids of the mesh file at ``path``."""
+        """Unscaled solids of the mesh file at `path`."""
         key = self._key(path)
         found = self._memo.get(key)
         if found is None:
@@ -309,15 +322,15 @@ class MeshLibrary:
         return found
 
     def points(self, path: Path) -> np.ndarray:
-        """(n, 3) points of the mesh file at ``path`` whose bounding box, after any affine
+        """(n, 3) points of the mesh file at `path` whose bounding box, after any affine
         map (scale, rotation, shift), is that of its used vertices: the vertices of their
         convex hull (all of them when they span no volume). Kept in the persistent cache,
-        so a warm ``check`` reads no mesh file.
+        so a warm `check` reads no mesh file.
 
         Raises
         ------
         MeshError
-            As :func:`~urdfinertia.mesh.read.load.load_mesh`.
+            As `load_mesh`.
         """
         key = self._key(path)
         found = self._points.get(key)
@@ -331,13 +344,13 @@ class MeshLibrary:
         return found
 
     def hull_volume(self, path: Path, scale: tuple[float, ...] = (1.0, 1.0, 1.0)) -> float:
-        """Volume of the convex hull of the mesh at ``path`` scaled by ``scale``, memoised
+        """Volume of the convex hull of the mesh at `path` scaled by `scale`, memoised
         (links and geometry candidates ask for the same mesh many times).
 
         Raises
         ------
         MeshError
-            As :meth:`points`.
+            As `points`.
         ValueError
             When the points span no volume.
         """
@@ -356,14 +369,14 @@ class MeshLibrary:
 
     def display(self, path: Path, max_faces: int, reduce: Reducer,
                 ) -> tuple[np.ndarray, np.ndarray, int, str]:
-        """A display copy of the mesh file at ``path``: ``reduce(vertices, faces,
+        """A display copy of the mesh file at `path`: ``reduce(vertices, faces,
         max_faces)`` (vertices, faces, how) and the file's face count, in the
-        persistent cache per ``max_faces``, so a warm report reads no mesh file.
+        persistent cache per `max_faces`, so a warm report reads no mesh file.
 
         Raises
         ------
         MeshError
-            As :func:`~urdfinertia.mesh.read.load.load_mesh`.
+            As `load_mesh`.
         """
         header, numbers, faces = self._derived(
             self._key(path), _display_kind(max_faces),
@@ -375,22 +388,22 @@ class MeshLibrary:
     def derived(self, path: Path, kind: str,
                 make: Callable[[TriangleMesh], tuple[dict, np.ndarray]],
                 valid: Callable[[dict, np.ndarray], bool]) -> tuple[dict, np.ndarray]:
-        """``(header, numbers)`` that ``make`` derives from the mesh file at ``path``
-        (JSON-able header, float64 numbers), in the persistent cache under ``kind`` (a
-        name safe in a file name, unique to what else ``make`` depends on): a warm run
-        reads neither the file nor computes again. Entries ``valid`` rejects are remade.
+        """`(header, numbers)` that `make` derives from the mesh file at `path`
+        (JSON-able header, float64 numbers), in the persistent cache under `kind` (a
+        name safe in a file name, unique to what else `make` depends on): a warm run
+        reads neither the file nor computes again. Entries `valid` rejects are remade.
 
         Raises
         ------
         MeshError
-            As :func:`~urdfinertia.mesh.read.load.load_mesh`, or as ``make``.
+            As `load_mesh`, or as `make`.
         """
         header, numbers, _ = self._derived(self._key(path), kind, make, valid)
         return header, numbers
 
     def display_cached(self, path: Path, max_faces: int) -> bool:
-        """Whether the persistent cache holds :meth:`display`'s copy of ``path`` for
-        ``max_faces`` (False without a cache)."""
+        """Whether the persistent cache holds `display`'s copy of `path` for
+        `max_faces` (False without a cache)."""
         if self.cache is None:
             return False
         _, hit = self.cache.lookup_arrays(self._key(path), self.max_faces,
@@ -399,8 +412,8 @@ class MeshLibrary:
 
     def seed_display(self, path: Path, max_faces: int, header: dict,
                      numbers: np.ndarray) -> None:
-        """Store in the persistent cache a :func:`display_entry` made elsewhere (another
-        process), for :meth:`display` to find; nothing without a cache."""
+        """Store in the persistent cache a `display_entry` made elsewhere (another
+        process), for `display` to find; nothing without a cache."""
         if self.cache is None or not _display_valid(header, numbers):
             return
         kind = _display_kind(max_faces)
@@ -412,8 +425,8 @@ class MeshLibrary:
                  make: Callable[[TriangleMesh], tuple[dict, np.ndarray]],
                  valid: Callable[[dict, np.ndarray], bool],
                  ) -> tuple[dict, np.ndarray, int]:
-        """``(header, numbers, file face count)`` of the entry ``kind`` derived from the
-        mesh file ``key`` by ``make``: from the cache when ``valid`` accepts it (anything
+        """`(header, numbers, file face count)` of the entry `kind` derived from the
+        mesh file `key` by `make`: from the cache when `valid` accepts it (anything
         else is recomputed), or made and stored."""
         entry = None
         if self.cache is not None:
@@ -434,8 +447,8 @@ class MeshLibrary:
         return header, numbers, len(mesh.faces)
 
     def failed_for_bytes_only(self, trace: list[tuple[str, str, str]]) -> bool:
-        """True when every mesh of ``trace`` (see :attr:`trace`) has an outcome that
-        depends on its bytes alone (:func:`cacheable`: no failure for another reason, no
+        """True when every mesh of `trace` (see `trace`) has an outcome that
+        depends on its bytes alone (`cacheable`: no failure for another reason, no
         repair cut short by the time budget): a file's result then depends on its inputs
         alone."""
         for _, _, path in trace:
@@ -453,10 +466,10 @@ def mesh_library(package_dirs: Mapping[str, Path] | None = None,
                  cache_max_bytes: int = DEFAULT_MAX_BYTES) -> MeshLibrary:
     """The mesh library of a command: every command builds its library here.
 
-    It reads and fills the persistent mesh cache (``cache_dir``, default
-    :func:`~urdfinertia.cache.store.default_cache_dir`) unless ``use_cache`` is False, so
-    ``check``, ``compare``, ``explain`` and ``report`` reuse what ``fix`` (or an earlier
-    run of any of them) computed. The cache is kept within ``cache_max_bytes`` when the
+    It reads and fills the persistent mesh cache (`cache_dir`, default
+    `default_cache_dir`) unless `use_cache` is False, so
+    `check`, `compare`, `explain` and `report` reuse what `fix` (or an earlier
+    run of any of them) computed. The cache is kept within `cache_max_bytes` when the
     library is discarded (least recently used entries go first).
     """
     cache = SolidsCache(cache_dir, cache_max_bytes) if use_cache else None

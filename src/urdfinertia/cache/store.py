@@ -1,17 +1,17 @@
-"""Persistent cache of per-mesh results (:class:`MeshSolids`) keyed by file content.
+"""Persistent cache of per-mesh results (`MeshSolids`) keyed by file content.
 
 An entry's key is a hash of the mesh file's bytes, its format (suffix) and the version of
 everything that turns bytes into solids (the repair algorithm's version string and a digest
 of this package's source), so an edited file or a new algorithm never meets a stale entry.
-Scale is not part of the key: :meth:`MeshSolids.scaled` applies ``<mesh scale>`` exactly
-afterwards. ``max_faces`` only refuses meshes, so the face count is stored and checked on a
+Scale is not part of the key: `MeshSolids.scaled` applies `<mesh scale>` exactly
+afterwards. `max_faces` only refuses meshes, so the face count is stored and checked on a
 hit instead.
 
 An entry file holds a magic line, a JSON header (format, key, face count, field names, the
 solids' text fields) and raw little-endian float64 numbers; nothing is ever unpickled or
 evaluated. Anything that does not validate (wrong magic, header or key, wrong length,
 non-finite values, volume not positive, asymmetric second moments) is ignored and
-recomputed, never trusted. A mesh the repair rejects (a :class:`MeshError` it raises for
+recomputed, never trusted. A mesh the repair rejects (a `MeshError` it raises for
 the bytes themselves) is stored too, as its message, so a warm run repeats the error
 without redoing the work. The folder is kept under a size bound
 by deleting the least recently used entries (by modification time; a hit touches it).
@@ -46,30 +46,31 @@ if TYPE_CHECKING:
 # numpy and the solids types are imported where entries are encoded or decoded: a warm run
 # that reuses whole-file results computes keys only.
 
-#: Layout of one entry file; a different layout is a foreign entry.
 CACHE_FORMAT = "urdfinertia-solids-cache/2"
+"""Layout of one entry file; a different layout is a foreign entry."""
 MAGIC = b"URDFINERTIA-SOLIDS\n"
-#: Sub-folder of the cache directory holding the entries (nothing outside it is touched).
 SUBDIR = "solids-v2"
-#: Sub-folder of whole-file results (:mod:`urdfinertia.batch.file_cache`).
+"""Sub-folder of the cache directory holding the entries (nothing outside it is touched)."""
 FILES_SUBDIR = "files-v1"
+"""Sub-folder of whole-file results (`urdfinertia.batch.file_cache`)."""
 DIGESTS_FILE = "digests-v1.json"
-#: Bytes of entries counted by the last :meth:`SolidsCache.prune` (lets a run that wrote
-#: nothing skip the scan of every entry).
 SIZE_FILE = "size-v1.json"
+"""Bytes of entries counted by the last `SolidsCache.prune` (lets a run that wrote nothing
+skip the scan of every entry).
+"""
 SIZE_FORMAT = "urdfinertia-cache-size/1"
 ENV_VAR = "URDFINERTIA_CACHE_DIR"
-#: Default size bound of the cache folder, bytes.
 DEFAULT_MAX_BYTES = 512 * 1024 * 1024
-#: Largest entry file read (a real entry is a few kB).
+"""Default size bound of the cache folder, bytes."""
 MAX_ENTRY_BYTES = 16 * 1024 * 1024
+"""Largest entry file read (a real entry is a few kB)."""
 _ARRAYS = ("volume", "first", "second")
 T = TypeVar("T")
 _ERROR_KEYS = {"format", "key", "faces", "solid_fields", "mesh_fields", "error", "code"}
 
 
 def too_many_faces(path: Path, faces: int, max_faces: int) -> MeshError:
-    """The error :func:`load_mesh` raises, for a cache hit over the limit."""
+    """The error `load_mesh` raises, for a cache hit over the limit."""
     return MeshError(f"mesh {path} has {faces} faces, more than the limit "
                      f"{max_faces} (raise it with --max-faces, in Python max_faces=)",
                      rule=Rule.MESH_TOO_LARGE)
@@ -90,7 +91,7 @@ def cacheable(outcome: object, path: Path) -> bool:
 
 
 def default_cache_dir() -> Path:
-    """``$URDFINERTIA_CACHE_DIR`` if set, else the platform's user cache folder."""
+    """`$URDFINERTIA_CACHE_DIR` if set, else the platform's user cache folder."""
     env = os.environ.get(ENV_VAR)
     if env:
         return Path(env).expanduser()
@@ -100,11 +101,25 @@ def default_cache_dir() -> Path:
 
 
 def entry_key(data: bytes, suffix: str) -> str:
-    """Cache key of a mesh file with content ``data`` and file suffix ``suffix``."""
+    """Cache key of a mesh file with content `data` and file suffix `suffix`."""
     return key_from_digest(content_digest(data), suffix)
 
 
 def key_from_digest(digest: str, suffix: str) -> str:
+    """The cache key of a mesh file with content digest `digest`.
+
+    Parameters
+    ----------
+    digest : str
+        `content_digest` of the file.
+    suffix : str
+        Its suffix (the reader depends on it).
+
+    Returns
+    -------
+    str
+        A key that changes with the cache format and the code that computes.
+    """
     head = "\0".join((CACHE_FORMAT, code_digest(),
                       suffix.lower(), digest))
     return hashlib.blake2b(head.encode(), digest_size=20).hexdigest()
@@ -112,10 +127,10 @@ def key_from_digest(digest: str, suffix: str) -> str:
 
 def file_entry_key(path: Path, max_bytes: int, digests: FileDigests | None = None,
                    ) -> str | None:
-    """:func:`entry_key` of the file at ``path`` (its digest from ``digests`` if known).
+    """`entry_key` of the file at `path` (its digest from `digests` if known).
 
     None (do not use the cache; the reader reports the problem) for anything but a regular
-    file of at most ``max_bytes`` bytes: a FIFO or a huge file is never read here.
+    file of at most `max_bytes` bytes: a FIFO or a huge file is never read here.
     """
     digest = (digests.digest(path, max_bytes) if digests is not None
               else file_digest(path, max_bytes))
@@ -126,7 +141,7 @@ class SolidsCache:
     """A folder of cache entries with a size bound.
 
     Problems with the folder itself (not writable, full disk) never fail a run: the cache
-    turns itself off and says why in :attr:`warnings`.
+    turns itself off and says why in `warnings`.
     """
 
     def __init__(self, root: str | Path | None = None,
@@ -144,10 +159,22 @@ class SolidsCache:
         self.written = 0
 
     def path(self, key: str) -> Path:
+        """The entry file of `key`.
+
+        Parameters
+        ----------
+        key : str
+            A cache key.
+
+        Returns
+        -------
+        Path
+            Where its entry is stored.
+        """
         return self.folder / key[:2] / f"{key}.entry"
 
     def get(self, key: str) -> tuple[MeshSolids | MeshError, int] | None:
-        """The solids (or the repair's error) and face count under ``key``, or None.
+        """The solids (or the repair's error) and face count under `key`, or None.
 
         None means absent or invalid: the caller recomputes.
         """
@@ -164,10 +191,10 @@ class SolidsCache:
     # --- the one lookup protocol of mesh solids (MeshLibrary and batch runs both use it) --
     def lookup_mesh(self, path: Path, max_faces: int,
                     ) -> tuple[str | None, MeshSolids | MeshError | None]:
-        """``(key, outcome)`` of the mesh file at ``path``; outcome None on a miss.
+        """`(key, outcome)` of the mesh file at `path`; outcome None on a miss.
 
         The key is None when the file is not a readable regular file within the size
-        limit (the reader then says why). A hit over ``max_faces`` is the reader's own
+        limit (the reader then says why). A hit over `max_faces` is the reader's own
         refusal: the cache never changes what is accepted.
         """
         if not self.enabled:
@@ -185,10 +212,10 @@ class SolidsCache:
 
     def lookup_arrays(self, path: Path, max_faces: int, kind: str,
                       ) -> tuple[str | None, tuple[dict, np.ndarray] | MeshError | None]:
-        """``(key, (header, numbers))`` of an entry derived from the mesh at ``path``
-        other than its solids (``kind``: "points", "view-N", see :class:`MeshLibrary`);
+        """`(key, (header, numbers))` of an entry derived from the mesh at `path`
+        other than its solids (`kind`: "points", "view-N", see `MeshLibrary`);
         None on a miss (key None: the file is not cacheable), a refusal over
-        ``max_faces``."""
+        `max_faces`."""
         if not self.enabled:
             return None, None
         key = file_entry_key(path, max_mesh_bytes(max_faces), self.digests)
@@ -204,30 +231,44 @@ class SolidsCache:
 
     def store_arrays(self, key: str | None, kind: str, header: dict,
                      numbers: np.ndarray) -> None:
-        """Keep ``numbers`` with ``header`` (which holds the file's face count,
-        ``"faces"``) under ``key`` and ``kind``."""
+        """Keep `numbers` with `header` (which holds the file's face count,
+        `"faces"`) under `key` and `kind`."""
         if key is not None:
             self.write(self.arrays_path(key, kind), pack(
                 {**header, "format": CACHE_FORMAT, "kind": kind, "key": key},
                 numbers.reshape(-1)))
 
     def arrays_path(self, key: str, kind: str) -> Path:
+        """The file of an entry's arrays of one `kind` (hull points, display copies).
+
+        Parameters
+        ----------
+        key : str
+            A cache key.
+        kind : str
+            What the arrays are.
+
+        Returns
+        -------
+        Path
+            Where they are stored.
+        """
         return self.folder / key[:2] / f"{key}.{kind}.entry"  # pruned like the others
 
     def store_mesh(self, key: str | None, path: Path, outcome: MeshSolids | Exception,
                    faces: int) -> None:
-        """Keep ``outcome`` under ``key`` when it depends on the file's bytes alone.
+        """Keep `outcome` under `key` when it depends on the file's bytes alone.
 
-        ``faces`` > 0 says the mesh was read, so an error came from the repair of its bytes.
+        `faces` > 0 says the mesh was read, so an error came from the repair of its bytes.
         """
         if key is not None and faces > 0 and cacheable(outcome, path):
             self.put(key, outcome, faces)  # type: ignore[arg-type]  # cacheable narrows
 
     def read(self, path: Path, decode: Callable[[bytes], T | None],
              count: bool = True) -> T | None:
-        """``decode`` of the entry file at ``path``; None when absent, corrupt or foreign.
+        """`decode` of the entry file at `path`; None when absent, corrupt or foreign.
 
-        ``count``: add the lookup to :attr:`hits` / :attr:`misses` (mesh entries).
+        `count`: add the lookup to `hits` / `misses` (mesh entries).
         """
         if not self.enabled:
             return None
@@ -250,7 +291,7 @@ class SolidsCache:
     def write(self, path: Path, data: bytes, count: bool = True) -> None:
         """Write an entry file atomically; a folder that cannot be written turns caching off.
 
-        ``count``: add the bytes to :attr:`written` (entries; not bookkeeping files).
+        `count`: add the bytes to `written` (entries; not bookkeeping files).
         """
         if not self.enabled or len(data) > MAX_ENTRY_BYTES:
             return
@@ -270,8 +311,8 @@ class SolidsCache:
         return self._scan()[0]
 
     def _scan(self) -> tuple[list[tuple[Path, int, float]], list[str]]:
-        """Entry files (``??/*.entry``) with size and mtime, and temporary files
-        (``??/.*.tmp``) of both entry folders (``os.scandir``: pathlib's glob cost a warm
+        """Entry files (`??/*.entry`) with size and mtime, and temporary files
+        (`??/.*.tmp`) of both entry folders (`os.scandir`: pathlib's glob cost a warm
         run more than reading the entries)."""
         entries: list[tuple[Path, int, float]] = []
         temporary: list[str] = []
@@ -292,15 +333,22 @@ class SolidsCache:
         return entries, temporary
 
     def size(self) -> int:
+        """The bytes the cache's entries take.
+
+        Returns
+        -------
+        int
+            Their total size.
+        """
         return sum(size for _, size, _ in self.entries())
 
     def prune(self, max_bytes: int | None = None) -> int:
-        """Delete least recently used entries until the folder holds at most ``max_bytes``.
+        """Delete least recently used entries until the folder holds at most `max_bytes`.
 
         Also removes temporary files left by killed runs. Returns the bytes freed.
 
         A run that wrote no entry skips the scan when the size the last prune counted
-        (:data:`SIZE_FILE`, written by every scan) is within the bound: hits do not grow
+        (`SIZE_FILE`, written by every scan) is within the bound: hits do not grow
         the folder. Missing or unreadable, the count is taken again.
         """
         limit = self.max_bytes if max_bytes is None else int(max_bytes)
@@ -493,7 +541,7 @@ def decode_entry(data: bytes, key: str) -> tuple[MeshSolids | MeshError, int] | 
 
 
 def decode_arrays(data: bytes, key: str, kind: str) -> tuple[dict, np.ndarray] | None:
-    """Header and numbers of an entry of ``kind`` for ``key``; None when it is not one
+    """Header and numbers of an entry of `kind` for `key`; None when it is not one
     (the caller checks the numbers' shapes)."""
     import numpy as np
 

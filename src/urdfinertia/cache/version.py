@@ -1,7 +1,7 @@
 """The one versioning rule of every cached result: the package's version and source.
 
 A cache entry (a mesh's solids, a whole file's result) is keyed by what it was computed
-from *and* by :func:`code_digest`, a digest of every module of this package. Any edit to
+from *and* by `code_digest`, a digest of every module of this package. Any edit to
 the code, released or not, therefore invalidates every entry: no entry outlives the code
 that wrote it, and there is no hand-bumped algorithm version to forget.
 """
@@ -19,7 +19,7 @@ _PACKAGE = Path(__file__).resolve().parents[1]
 
 @functools.lru_cache(maxsize=1)
 def code_digest() -> str:
-    """Digest of the package version and of every ``.py`` file under the package.
+    """Digest of the package version and of every `.py` file under the package.
 
     Reads about 0.5 MB of source once per process (a few milliseconds), instead of
     importing or parsing anything.

@@ -179,3 +179,102 @@ def engine_request(args: argparse.Namespace):
 
     return EngineCheck(args.engines, seconds=args.engine_seconds,
                        timeout=args.engine_timeout)
+
+
+#: How every option of every command is said in Python (``urdfinertia.check``, ``fix``,
+#: ``compare``, ``explain``, ``report``): the keyword argument and its value, or what takes
+#: the option's place. The API reference's command-line table is generated from the parser
+#: and this table, and a test fails on an option of the parser that is missing here (or an
+#: entry no parser has), so the two cannot drift. Keys are the option's long name; an
+#: option that means something else in one command is keyed ``"command --option"``.
+PYTHON_EQUIVALENTS: dict[str, str] = {
+    # reading the description and its geometry
+    "urdf": "`path` (the first argument; one file: loop over files in Python)",
+    "more": "call `fix` once per file",
+    "--geometry": '`geometry="auto"`, `"collision"` or `"visual"`',
+    "--package-dir": '`package_dirs={"NAME": "PATH"}`',
+    "--xacro-arg": '`xacro_args={"NAME": "VALUE"}`',
+    "--max-faces": "`max_faces=N`",
+    "--mass": '`mass="keep"` or `"density"`',
+    "--density": "`density=KG_PER_M3`",
+    "--spec": '`spec="robot.inertia.toml"` (a path, or a spec from `load_spec`)',
+    # which links fix recomputes
+    "--all": '`recompute="all"`',
+    "--links": '`links=["NAME", ...]` (implies `recompute="links"`)',
+    "--no-slips": "`slips=False`",
+    "--keep-auto": "`keep_auto=True`",
+    "--strict": "`strict=True` (`fix` raises instead of leaving a link as it was)",
+    "--total-mass": "`total_mass=KG`",
+    "--scale-kept": "`scale_kept=True`",
+    "--repair-only": "`urdfinertia.plan.repair_only.repair_file(path)`",
+    # what fix writes
+    "--output": '`result.save("PATH")`',
+    "--in-place": "`result.save(in_place=True)`",
+    "--keep-mesh-paths": '`result.save("PATH", keep_mesh_paths=True)`',
+    "--write-back": "`urdfinertia.write_back(result)`",
+    "--write-back-report": '`urdfinertia.write_back(result, report="PATH")`',
+    "--json": "the returned objects (`result.links`: one `LinkResult` per link)",
+    "--quiet": "nothing is printed in Python",
+    "--debug": "Python raises the exception itself",
+    # check
+    "check --strict": "`result.exit_code(strict=True)`",
+    "--format": "the returned `CheckResult` (`findings`, `links`)",
+    "--sarif": "command line only (`urdf-inertia check --sarif PATH`)",
+    "--baseline": "command line only (`urdf-inertia check --baseline FILE`)",
+    "--write-baseline": "command line only (`urdf-inertia check --write-baseline FILE`)",
+    "--no-geometry": "`geometry=False` (`check` only)",
+    "--show-info": "`result.findings` holds every finding, info included",
+    "--skip-unknown-formats": "command line only (pre-commit passes every file)",
+    "--includers": "command line only (a hook mode: an included xacro checked through the "
+                   "robots that include it)",
+    "--no-statics": "`statics=False`",
+    "--effort-margin": "`effort_margin=FRACTION`",
+    "--realizable": '`realizable="ellipsoid"` or `"hull"`',
+    "--mass-tolerance": "`mass_tolerance=FRACTION`",
+    "--engines": "command line only (`urdfinertia.engines.run.EngineCheck` in the library)",
+    "--engine-seconds": "command line only, with `--engines`",
+    "--engine-timeout": "command line only, with `--engines`",
+    # compare
+    "--against": '`against="OTHER.urdf"` (the second argument)',
+    "--csv": "the returned list of `LinkComparison`",
+    "--plot": "command line only (a PNG)",
+    "--tol-com": "`tol_com=FRACTION`",
+    "--tol-inertia": "`tol_inertia=FRACTION`",
+    "--tol-mass": "`tol_mass=FRACTION`",
+    "--fail-above": "compare the returned `LinkComparison` values yourself",
+    "compare --all": "the returned list holds every link",
+    # explain
+    "--link": '`link="NAME"` (the second argument)',
+    "explain --json": "the returned `Breakdown`",
+    # report
+    "--view": '`view="visual"` or `"collision"`',
+    "--view-faces": "`face_budget=N`",
+    "report --output": '`report.save("PATH")`',
+    # many files at once: the batch runner of the command line
+    "--jobs": "command line only: one file per call in Python, in this process",
+    "--mesh-seconds": "command line only",
+    "--no-cache": "command line only: Python calls use no cache",
+    "--cache-dir": "command line only",
+    "--cache-max-mb": "command line only",
+    "--dask": "command line only",
+    "--timings": "command line only",
+}
+
+
+def python_equivalent(command: str, option: str) -> str | None:
+    """How ``option`` of ``command`` is said in Python (:data:`PYTHON_EQUIVALENTS`).
+
+    Parameters
+    ----------
+    command : str
+        The subcommand, as typed ("fix", "check", ...).
+    option : str
+        The option's long name ("--all") or a positional argument's name ("urdf").
+
+    Returns
+    -------
+    str or None
+        The Python keyword and value, or what takes the option's place; None when the
+        table has no entry for it.
+    """
+    return PYTHON_EQUIVALENTS.get(f"{command} {option}", PYTHON_EQUIVALENTS.get(option))

@@ -1,7 +1,7 @@
 """The joint tree, in one place: link poses at the zero configuration, which links move,
-and which are welded together by fixed joints (``check``'s lumping, the report's poses).
+and which are welded together by fixed joints (`check`'s lumping, the report's poses).
 
-Many simulators (Gazebo, MuJoCo's ``fusestatic``, Pinocchio's reduced models) merge links
+Many simulators (Gazebo, MuJoCo's `fusestatic`, Pinocchio's reduced models) merge links
 joined by fixed joints into one body, so what must be physical is often the merged body.
 A link "moves" when it is the child of a joint that is not fixed.
 """
@@ -18,10 +18,16 @@ from urdfinertia.descriptions.model import Joint, Robot
 
 @dataclass(frozen=True, eq=False)
 class FixedGroup:
-    """Links welded to ``root`` by fixed joints.
+    """Links welded to `root` by fixed joints.
 
-    members : link names, root first.
-    poses : (4, 4) pose of each member's frame in the root's frame, same order.
+    Attributes
+    ----------
+    root : str
+        The link the others are welded to.
+    members : tuple of str
+        The link names, root first.
+    poses : tuple of (4, 4) float
+        The pose of each member's frame in the root's frame, in the same order.
     """
 
     root: str
@@ -70,10 +76,34 @@ class Kinematics:
             self._pose_in_root[child] = self._pose_in_root[parent] @ joint.origin.matrix()
 
     def moves(self, name: str) -> bool:
+        """Whether link `name` is the child of a moving (not fixed) joint.
+
+        Parameters
+        ----------
+        name : str
+            A link.
+
+        Returns
+        -------
+        bool
+            False for the root and for links on fixed joints.
+        """
         joint = self.parent_joint.get(name)
         return joint is not None and joint.type != "fixed"
 
     def group_of(self, name: str) -> FixedGroup:
+        """The group of links welded to link `name` by fixed joints.
+
+        Parameters
+        ----------
+        name : str
+            A link.
+
+        Returns
+        -------
+        FixedGroup
+            Its group (a group of one for a link with no fixed joint).
+        """
         return self.groups[self._group_root[name]]
 
 

@@ -17,13 +17,13 @@ from urdfinertia.inertia.rotation import pose_matrix
 
 @dataclass(frozen=True)
 class Origin:
-    """``<origin xyz rpy>``: a child frame's pose in its parent frame."""
+    """`<origin xyz rpy>`: a child frame's pose in its parent frame."""
 
     xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
     rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def matrix(self) -> np.ndarray:
-        """(4, 4) homogeneous transform, rotation ``Rz Ry Rx`` (paper eq. 15)."""
+        """(4, 4) homogeneous transform, rotation `Rz Ry Rx` (paper eq. 15)."""
         return pose_matrix(self.xyz, self.rpy)
 
 
@@ -71,7 +71,7 @@ Shape = Box | Cylinder | Sphere | Capsule | Cone | Ellipsoid | Mesh
 
 @dataclass(frozen=True)
 class GeometryRef:
-    """One ``<collision>`` or ``<visual>`` of a link."""
+    """One `<collision>` or `<visual>` of a link."""
 
     role: str  # "collision" | "visual"
     index: int  # position among the link's elements of that role
@@ -79,24 +79,27 @@ class GeometryRef:
     origin: Origin
     shape: Shape
     line: int | None = None
-    #: what the description itself states about the element's material (MJCF geom
-    #: ``density``/``mass``, SDF ``<density>``): kg/m^3 and kg, None when it says nothing
     density: float | None = None
+    """What the description itself states about the element's material (MJCF geom
+    `density`/`mass`, SDF `<density>`): kg/m^3 and kg, None when it says nothing.
+    """
     mass: float | None = None
-    #: ``density``/``mass`` only weigh the elements against each other: a link mass that
-    #: is kept scales them all (MJCF: MuJoCo ignores geom materials of a body that has an
-    #: ``<inertial>``; their proportions still say where the mass is)
     relative: bool = False
+    """`density`/`mass` only weigh the elements against each other: a link mass that is kept
+    scales them all (MJCF: MuJoCo ignores geom materials of a body that has an `<inertial>`;
+    their proportions still say where the mass is)
+    """
 
     @property
     def label(self) -> str:
+        """How reports name the element: `collision[0] 'name'`."""
         tag = f"{self.role}[{self.index}]"
         return f"{tag} '{self.name}'" if self.name else tag
 
 
 @dataclass(frozen=True)
 class Inertial:
-    """``<inertial>`` as written: inertia about ``origin`` along the origin's axes."""
+    """`<inertial>` as written: inertia about `origin` along the origin's axes."""
 
     origin: Origin
     mass: float
@@ -122,19 +125,25 @@ class Inertial:
         return r @ self.tensor() @ r.T
 
 
-#: Where a simulator takes the mass properties of a link without a complete inertial.
 IMPLICIT_SOURCES = ("geoms", "colliders")
+"""Where a simulator takes the mass properties of a link without a complete inertial."""
 
 
 @dataclass(frozen=True)
 class Implicit:
     """What the format's simulator computes for a link whose description gives no complete
-    inertial: MuJoCo from the body's geoms (``inertiafromgeom``), a USD engine from the
+    inertial: MuJoCo from the body's geoms (`inertiafromgeom`), a USD engine from the
     colliders (a MassAPI without mass or inertia).
 
-    source : "geoms" or "colliders". mass : the mass the description states (a USD
-    MassAPI's ``physics:mass`` without an inertia), kg, None when the simulator computes it
-    too. density : the density it states (kg/m^3), None when it states none.
+    Attributes
+    ----------
+    source : {"geoms", "colliders"}
+        What the simulator computes from.
+    mass : float or None
+        The mass the description states (a USD MassAPI's `physics:mass` without an
+        inertia), kg; None when the simulator computes it too.
+    density : float or None
+        The density it states (kg/m^3), None when it states none.
     """
 
     source: str
@@ -149,18 +158,21 @@ class Link:
     visuals: tuple[GeometryRef, ...] = ()
     inertial: Inertial | None = None
     line: int | None = None
-    #: the elements the format itself counts for inertia, when it has such a rule (MJCF:
-    #: geoms whose group is in ``inertiagrouprange``); ``--geometry auto`` then uses them
     inertia_geometry: tuple[GeometryRef, ...] | None = None
-    #: the format asks its simulator to compute this inertial at load time (SDFormat
-    #: ``<inertial auto="true">``): ``fix --keep-auto`` leaves it so
+    """The elements the format itself counts for inertia, when it has such a rule (MJCF: geoms whose
+    group is in `inertiagrouprange`); `--geometry auto` then uses them.
+    """
     auto_inertial: bool = False
-    #: why this document cannot carry a new inertial for the link (MJCF: the body is
-    #: defined in an included file, which ``fix`` does not write); None when it can
+    """The format asks its simulator to compute this inertial at load time (SDFormat
+    `<inertial auto="true">`): `fix --keep-auto` leaves it so.
+    """
     read_only: str | None = None
-    #: what the simulator computes where ``inertial`` is None (or, for MJCF
-    #: ``inertiafromgeom="true"``, instead of it); None when it computes nothing
+    """Why this document cannot carry a new inertial for the link (MJCF: the body is defined in an
+    included file, which `fix` does not write); None when it can.
+    """
     implicit: Implicit | None = None
+    """What the simulator computes where `inertial` is None (or, for MJCF
+    `inertiafromgeom="true"`, instead of it); None when it computes nothing."""
 
 
 @dataclass(frozen=True)
@@ -171,17 +183,18 @@ class Joint:
     child: str
     origin: Origin = field(default_factory=Origin)
     line: int | None = None
-    #: the motion's axis in the joint frame (URDF's default x), for whole-robot statics
     axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
-    #: a point the axis passes through, in the child link frame: URDF's is the frame's
-    #: origin; an MJCF joint ``pos`` or an SDFormat joint ``<pose>`` may put it elsewhere
+    """The motion's axis in the joint frame (URDF's default x), for whole-robot statics."""
     axis_point: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    #: ``<limit lower upper effort>``: m or rad, and N or N m; None when not stated
+    """A point the axis passes through, in the child link frame: URDF's is the frame's origin; an
+    MJCF joint `pos` or an SDFormat joint `<pose>` may put it elsewhere.
+    """
     lower: float | None = None
+    """`<limit lower upper effort>`: m or rad, and N or N m; None when not stated."""
     upper: float | None = None
     effort: float | None = None
-    #: ``<mimic joint multiplier offset>``: (joint, multiplier, offset), None when it has none
     mimic: tuple[str, float, float] | None = None
+    """`<mimic joint multiplier offset>`: (joint, multiplier, offset), None when it has none."""
 
 
 @dataclass(frozen=True)
@@ -190,17 +203,34 @@ class Robot:
     links: tuple[Link, ...]
     joints: tuple[Joint, ...]
     path: Path | None = None
-    #: the registered description format that read it ("urdf", ...): it also writes it
     format: str = "urdf"
-    #: what the reader has to say, in document order: elements dropped, values it could
-    #: not read, how it read what other loaders refuse (each a finding with its rule)
+    """The registered description format that read it ("urdf", ...): it also writes it."""
     findings: tuple[Finding, ...] = ()
+    """What the reader has to say, in document order: elements dropped, values it could
+    not read, how it read what other loaders refuse (each a finding with its rule)."""
 
     def findings_of(self, link: str | None) -> tuple[Finding, ...]:
-        """The reader's findings about ``link`` (None: about the document)."""
+        """The reader's findings about `link` (None: about the document)."""
         return tuple(f for f in self.findings if f.link == link)
 
     def link(self, name: str) -> Link:
+        """The link called `name`.
+
+        Parameters
+        ----------
+        name : str
+            A link name.
+
+        Returns
+        -------
+        Link
+            The link.
+
+        Raises
+        ------
+        KeyError
+            When the robot has no such link.
+        """
         for link in self.links:
             if link.name == name:
                 return link

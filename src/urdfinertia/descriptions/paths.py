@@ -1,7 +1,7 @@
-"""Resolve mesh URIs of a URDF (relative, ``file://`` and ``package://``) or of an SDFormat
-model (also ``model://``) to files.
+"""Resolve mesh URIs of a URDF (relative, `file://` and `package://`) or of an SDFormat
+model (also `model://`) to files.
 
-Only local regular files are ever returned: other URL schemes, ``file://`` URIs naming a
+Only local regular files are ever returned: other URL schemes, `file://` URIs naming a
 remote host, FIFOs and devices are refused, so nothing is fetched and no read can block.
 """
 
@@ -19,17 +19,17 @@ from urdfinertia.errors import MeshError
 from urdfinertia.rules import Rule
 
 _PACKAGE_NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
-#: ROS package names (REP 144 is stricter; this only keeps out '', '.', '..' and separators).
 _PACKAGE_NAME_OK = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*\Z")
+"""ROS package names (REP 144 is stricter; this only keeps out '', '.', '..' and separators)."""
 
 
 def find_package(name: str, urdf_dir: Path, package_dirs: Mapping[str, Path]) -> Path | None:
-    """Folder of ROS package ``name``.
+    """Folder of ROS package `name`.
 
-    Order: ``package_dirs`` (``--package-dir NAME=PATH``; a relative folder is the working
-    directory's), then ``ROS_PACKAGE_PATH`` and
-    ``AMENT_PREFIX_PATH`` (``share/NAME``), then the URDF's folder and its ancestors: a folder
-    named ``name``, or one whose ``package.xml`` declares ``name``.
+    Order: `package_dirs` (`--package-dir NAME=PATH`; a relative folder is the working
+    directory's), then `ROS_PACKAGE_PATH` and
+    `AMENT_PREFIX_PATH` (`share/NAME`), then the URDF's folder and its ancestors: a folder
+    named `name`, or one whose `package.xml` declares `name`.
     """
     if name in package_dirs:  # a relative folder is the working directory's
         return Path(package_dirs[name]).expanduser().absolute()
@@ -53,7 +53,7 @@ def find_package(name: str, urdf_dir: Path, package_dirs: Mapping[str, Path]) ->
 @functools.lru_cache(maxsize=4096)
 def _find_package_memo(name: str, urdf_dir: Path, package_dirs: tuple[tuple[str, Path], ...],
                        ros_package_path: str, ament_prefix_path: str) -> Path | None:
-    """:func:`find_package`, memoised: one lookup per package and folder, not per mesh.
+    """`find_package`, memoised: one lookup per package and folder, not per mesh.
 
     The environment variables are part of the key so that a changed search path is seen.
     """
@@ -61,17 +61,17 @@ def _find_package_memo(name: str, urdf_dir: Path, package_dirs: tuple[tuple[str,
     return find_package(name, urdf_dir, dict(package_dirs))
 
 
-#: Search paths of Gazebo (old and new names) and libsdformat for ``model://NAME``.
 MODEL_PATH_VARIABLES = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "SDF_PATH",
                         "GAZEBO_MODEL_PATH")
+"""Search paths of Gazebo (old and new names) and libsdformat for `model://NAME`."""
 
 
 def find_model(name: str, sdf_dir: Path, package_dirs: Mapping[str, Path]) -> Path | None:
-    """Folder of SDFormat model ``name`` (what ``model://NAME/...`` refers to).
+    """Folder of SDFormat model `name` (what `model://NAME/...` refers to).
 
-    Order: ``package_dirs`` (``--package-dir NAME=PATH``), then the folders listed in
-    :data:`MODEL_PATH_VARIABLES` (``ROOT/NAME``), then the file's folder and its ancestors:
-    a folder named ``name`` holding a ``model.config``, or one that has such a subfolder.
+    Order: `package_dirs` (`--package-dir NAME=PATH`), then the folders listed in
+    `MODEL_PATH_VARIABLES` (`ROOT/NAME`), then the file's folder and its ancestors:
+    a folder named `name` holding a `model.config`, or one that has such a subfolder.
     """
     if name in package_dirs:  # a relative folder is the working directory's
         return Path(package_dirs[name]).expanduser().absolute()
@@ -113,12 +113,12 @@ def _is_package(folder: Path, name: str) -> bool:
 def resolve_mesh_path(
     uri: str, urdf_dir: Path, package_dirs: Mapping[str, Path] | None = None
 ) -> Path:
-    """The file a ``<mesh filename="...">`` refers to.
+    """The file a `<mesh filename="...">` refers to.
 
     Raises
     ------
     MeshError
-        The URI uses a scheme other than ``package://`` or ``file://`` (no URLs are
+        The URI uses a scheme other than `package://` or `file://` (no URLs are
         fetched), names a package that cannot be found, or the file does not exist.
     """
     package_dirs = package_dirs or {}
@@ -176,12 +176,12 @@ def resolve_mesh_path(
 
 
 class RealPaths:
-    """``str(Path(p).resolve())`` for many paths, memoising resolved folders.
+    """`str(Path(p).resolve())` for many paths, memoising resolved folders.
 
-    ``Path.resolve`` checks every component of every path (one ``lstat`` each), while the
+    `Path.resolve` checks every component of every path (one `lstat` each), while the
     files of a run share few folders. Here each component is appended to its resolved
-    parent (one ``lstat`` per new file or folder; ``..`` takes the parent's folder), as
-    ``realpath`` does; a path that meets a symbolic link is resolved by ``Path.resolve``
+    parent (one `lstat` per new file or folder; `..` takes the parent's folder), as
+    `realpath` does; a path that meets a symbolic link is resolved by `Path.resolve`
     itself. The memo assumes that files and folders are not replaced by links (or links
     retargeted) during the life of the object (one run).
     """

@@ -1,11 +1,11 @@
 """The byte-splicing writers' shared pieces: one scanner grammar, one number format.
 
 Every description format writes new inertials by splicing the document's own bytes
-(:mod:`.urdf.write`, :mod:`.mjcf.write`, :mod:`.sdf.write`): they find element spans with
-:data:`TOKEN` (comments, CDATA, processing instructions and declarations told apart from
-tags), read a ``name`` attribute as lxml would (:func:`attribute_text`), indent like the
-surrounding lines (:func:`line_indent`) and write each number in its shortest round-trip
-form with round-off noise cleared (:func:`format_float`, :func:`clean`).
+(`.urdf.write`, `.mjcf.write`, `.sdf.write`): they find element spans with
+`TOKEN` (comments, CDATA, processing instructions and declarations told apart from
+tags), read a `name` attribute as lxml would (`attribute_text`), indent like the
+surrounding lines (`line_indent`) and write each number in its shortest round-trip
+form with round-off noise cleared (`format_float`, `clean`).
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ if TYPE_CHECKING:
 # references or scanning tags (every warm run) needs none of it.
 
 NAME_ATTR = re.compile(rb"(?:^|\s)name\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
-#: XML's predefined entities (xml.sax.saxutils would import urllib and http on every run)
 _ENTITIES = {"lt": "<", "gt": ">", "quot": '"', "apos": "'", "amp": "&"}
+"""XML's predefined entities (xml.sax.saxutils would import urllib and http on every run)"""
 _REFERENCE = re.compile(r"&(#x[0-9a-fA-F]+|#[0-9]+|lt|gt|quot|apos|amp);")
 
 
@@ -41,32 +41,63 @@ def _decode_reference(match: re.Match[str]) -> str:
 
 def attribute_text(raw: bytes) -> str:
     """An attribute value as lxml reports it: character and entity references decoded in
-    one pass (so ``&#38;lt;`` stays ``&lt;``)."""
+    one pass (so `&#38;lt;` stays `&lt;`)."""
     return _REFERENCE.sub(_decode_reference, raw.decode("utf-8"))
 
 
-#: Off-diagonal products and CoM components smaller than this fraction of the largest
-#: principal moment (or of the geometry's size) are round-off and written as 0.
 NOISE_RTOL = 1e-12
+"""Off-diagonal products and CoM components smaller than this fraction of the largest principal
+moment (or of the geometry's size) are round-off and written as 0.
+"""
 
 
 def line_indent(data: bytes, pos: int) -> bytes:
+    """The indentation of the line holding byte `pos`, when only whitespace precedes it.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    pos : int
+        A byte offset.
+
+    Returns
+    -------
+    bytes
+        The whitespace before `pos` on its line, else b"".
+    """
     line_start = data.rfind(b"\n", 0, pos) + 1
     prefix = data[line_start:pos]
     return prefix if prefix.strip() == b"" else b""
 
 
-#: The next markup at or after a position, classified in the order the scanner tests:
-#: 1 comment, 2 CDATA, 3 processing instruction, 4 other declaration, 5-8 a tag (as
-#: a tag); nothing captured: a ``<`` that starts none of them.
 TOKEN = re.compile(
     rb"<(?:(!--)|(!\[CDATA\[)|(\?)|(!)"
     rb"|(/?)([^\s/>!?]+)((?:\s+[^\s=/>]+\s*=\s*(?:\"[^\"]*\"|'[^']*'))*)\s*(/?)>)?",
     re.DOTALL,
 )
+"""The next markup at or after a position, classified in the order the scanner tests: 1 comment, 2
+CDATA, 3 processing instruction, 4 other declaration, 5-8 a tag (as a tag); nothing captured: a
+`<` that starts none of them.
+"""
 
 
 def skip_declaration(data: bytes, lt: int) -> int:
+    """The offset just past the declaration (`<!DOCTYPE ...>`, with its internal subset) starting at
+    `lt`.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    lt : int
+        The offset of the declaration's `<`.
+
+    Returns
+    -------
+    int
+        The offset after its closing `>`.
+    """
     depth = 0
     i = lt + 2
     while i < len(data):
@@ -82,7 +113,7 @@ def skip_declaration(data: bytes, lt: int) -> int:
 
 
 def format_float(value: float) -> str:
-    """Shortest text that reads back to the same float (``repr``), never ``-0``."""
+    """Shortest text that reads back to the same float (`repr`), never `-0`."""
     value = float(value)
     if value == 0.0:
         return "0"
@@ -91,7 +122,7 @@ def format_float(value: float) -> str:
 
 
 def clean(props: MassProperties, size: float) -> tuple[np.ndarray, np.ndarray]:
-    """CoM and tensor with round-off noise set to exactly 0 (see ``NOISE_RTOL``)."""
+    """CoM and tensor with round-off noise set to exactly 0 (see `NOISE_RTOL`)."""
     import numpy as np
 
     com = np.array(props.com)
@@ -104,10 +135,10 @@ def clean(props: MassProperties, size: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def next_tag(data: bytes, pos: int) -> re.Match[bytes] | None:
-    """The next start or end tag at or after ``pos`` (None at the end of the document).
+    """The next start or end tag at or after `pos` (None at the end of the document).
 
     Comments, CDATA sections, processing instructions and declarations (a DOCTYPE with its
-    internal subset) are skipped whole, so a ``<link>`` inside any of them is not a tag.
+    internal subset) are skipped whole, so a `<link>` inside any of them is not a tag.
     Groups 5-8 of the match: "/" of an end tag, the name, the attributes, "/" of an empty
     element tag.
     """
@@ -135,13 +166,13 @@ def next_tag(data: bytes, pos: int) -> re.Match[bytes] | None:
             raise UrdfError(f"cannot locate tag at byte {lt}")
 
 
-#: One attribute of a start tag: leading space, name, value in either quotes.
 _ATTRIBUTE = re.compile(rb"""(\s+)([^\s=/>]+)\s*=\s*(?:"([^"]*)"|'([^']*)')""")
+"""One attribute of a start tag: leading space, name, value in either quotes."""
 Edit = tuple[int, int, bytes]
 
 
 def attribute_spans(data: bytes, tag: re.Match[bytes]) -> dict[str, tuple[int, int, int]]:
-    """Attributes of the start tag ``tag`` (a :func:`next_tag` match): name -> (start of
+    """Attributes of the start tag `tag` (a `next_tag` match): name -> (start of
     the attribute with its leading space, start of the value, end of the value)."""
     out: dict[str, tuple[int, int, int]] = {}
     base = tag.start(7)
@@ -154,10 +185,10 @@ def attribute_spans(data: bytes, tag: re.Match[bytes]) -> dict[str, tuple[int, i
 
 def attribute_edits(data: bytes, tag: re.Match[bytes], values: Mapping[str, str],
                     remove: Iterable[str] = ()) -> list[Edit]:
-    """Edits that give start tag ``tag`` these attribute ``values`` and drop ``remove``.
+    """Edits that give start tag `tag` these attribute `values` and drop `remove`.
 
     An existing attribute keeps its place, quotes and spacing: only its value changes. A
-    missing one is added after the last attribute (``name="value"``).
+    missing one is added after the last attribute (`name="value"`).
     """
     spans = attribute_spans(data, tag)
     edits: list[Edit] = []
@@ -180,7 +211,7 @@ def attribute_edits(data: bytes, tag: re.Match[bytes], values: Mapping[str, str]
 
 
 def child_tags(data: bytes, start: int, end: int) -> dict[bytes, re.Match[bytes]]:
-    """The first start tag of each name directly inside the element ``[start, end)``."""
+    """The first start tag of each name directly inside the element `[start, end)`."""
     found: dict[bytes, re.Match[bytes]] = {}
     first = next_tag(data, start)
     if first is None or first.group(8):
@@ -202,8 +233,8 @@ def child_tags(data: bytes, start: int, end: int) -> dict[bytes, re.Match[bytes]
 
 
 def splice_edits(data: bytes, edits: Iterable[tuple[int, int, bytes]]) -> bytes:
-    """``data`` with each ``[start, end)`` replaced by its text; overlapping spans are a
-    writer's bug (:class:`UrdfError`)."""
+    """`data` with each `[start, end)` replaced by its text; overlapping spans are a
+    writer's bug (`UrdfError`)."""
     out = bytearray()
     pos = 0
     for start, end, text in sorted(edits, key=lambda e: (e[0], e[1])):

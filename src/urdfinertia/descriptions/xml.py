@@ -1,12 +1,12 @@
 """The one hardened XML parsing path: refuse hostile XML before any parser sees it.
 
 Safe, not strict: beyond the security refusals, a document is read the way urdfdom and the
-TinyXML-based loaders read it (:func:`parse_document`'s ``notes``): an XML declaration of
-any version or after leading whitespace, undeclared namespace prefixes (``drake:``) and
+TinyXML-based loaders read it (`parse_document`'s `notes`): an XML declaration of
+any version or after leading whitespace, undeclared namespace prefixes (`drake:`) and
 stray content after the root element are read past with a note. Only the bytes given to
 lxml are adjusted (same line numbers); the writers splice the original bytes.
 
-lxml is already configured not to resolve entities or load DTDs (:func:`safe_parser`), but
+lxml is already configured not to resolve entities or load DTDs (`safe_parser`), but
 a document that *declares* entities or points at an external DTD has no legitimate use in
 a robot description, so it is refused outright: no parser runs, nothing is read or fetched,
 and the answer is immediate whatever the expansion factor of a "billion laughs" bomb.
@@ -26,12 +26,12 @@ from urdfinertia.hostile import hostile_xml_cause
 if TYPE_CHECKING:
     from urdfinertia.findings import Finding
 
-#: libxml2's nesting limit without XML_PARSE_HUGE (documented in the safety guide).
 MAX_XML_DEPTH = 256
-#: Largest description accepted, bytes (the biggest real ones are a few MB).
+"""Libxml2's nesting limit without XML_PARSE_HUGE (documented in the safety guide)."""
 MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
-#: Encodings the byte-level patchers can splice safely.
+"""Largest description accepted, bytes (the biggest real ones are a few MB)."""
 _ENCODINGS = {"utf-8", "utf8", "us-ascii", "ascii"}
+"""Encodings the byte-level patchers can splice safely."""
 
 
 class _DenyResolver(etree.Resolver):
@@ -44,7 +44,7 @@ class _DenyResolver(etree.Resolver):
 def safe_parser() -> etree.XMLParser:
     """The only XML parser this package uses: no entities, no DTD, no network, no files.
 
-    ``huge_tree=False`` keeps libxml2's limits: nesting depth 256, text nodes and
+    `huge_tree=False` keeps libxml2's limits: nesting depth 256, text nodes and
     attribute values 10 MB, entity amplification checks.
     """
     parser = etree.XMLParser(
@@ -67,13 +67,13 @@ def parse_document(data: bytes, file: str | Path, roots: tuple[str, ...],
     """Parse a description's bytes into an lxml root element, refusing hostile constructs.
 
     The one parsing path of every description format. Checked before lxml runs: size
-    (:data:`MAX_DOCUMENT_BYTES`), entity declarations, external DTDs and UTF-16/32
-    encodings (:func:`hostile_xml_cause`). lxml then runs with :func:`safe_parser`
-    (libxml2's default limits: nesting depth :data:`MAX_XML_DEPTH`). The root element
-    must be one of ``roots``.
+    (`MAX_DOCUMENT_BYTES`), entity declarations, external DTDs and UTF-16/32
+    encodings (`hostile_xml_cause`). lxml then runs with `safe_parser`
+    (libxml2's default limits: nesting depth `MAX_XML_DEPTH`). The root element
+    must be one of `roots`.
 
     What urdfdom reads is read (see the module docstring); each such leniency is appended
-    to ``notes`` as a :class:`~urdfinertia.findings.Finding` (``xml-read-leniently``).
+    to `notes` as a [`Finding`][urdfinertia.findings.Finding] (`xml-read-leniently`).
     A document that is not XML, or is cut off inside its root element, stays an error.
     """
     if len(data) > MAX_DOCUMENT_BYTES:
@@ -102,27 +102,28 @@ def parse_document(data: bytes, file: str | Path, roots: tuple[str, ...],
     return root
 
 
-#: An XML declaration anywhere in the prolog (after a BOM, whitespace, comments or nothing:
-#: Cassie's .world puts a licence comment first, which TinyXML-based loaders accept).
-#: Each repetition has one way to match (one whitespace character, or one comment up to
-#: its first ``-->``): nested ``\s+`` or a lazy comment body that may run on to a later
-#: ``-->`` backtrack exponentially on a file with no declaration and many comments.
 _DECLARATION = re.compile(
     rb"\A(\xef\xbb\xbf)?((?:\s|<!--(?:(?!-->).)*-->)*)(<\?xml(?=\s)(.{0,400}?)\?>)", re.S)
+r"""An XML declaration anywhere in the prolog (after a BOM, whitespace, comments or nothing:
+Cassie's .world puts a licence comment first, which TinyXML-based loaders accept). Each repetition
+has one way to match (one whitespace character, or one comment up to its first `-->`): nested `\s+`
+or a lazy comment body that may run on to a later `-->` backtrack exponentially on a file with no
+declaration and many comments.
+"""
 _DECLARED_VERSION = re.compile(rb"""\bversion\s*=\s*["']1\.[0-9]+["']""")
 _DECLARED_ENCODING = re.compile(rb"""\bencoding\s*=\s*["']([A-Za-z0-9._-]{1,40})["']""")
-#: libxml2 error codes read past: undefined namespace prefix, content after the root.
 _ERR_UNDEFINED_PREFIX = 201
+"""Libxml2 error codes read past: undefined namespace prefix, content after the root."""
 _ERR_EXTRA_CONTENT = 5
-#: Namespace given to undeclared prefixes (never a real one; tags become unknown names).
 UNDECLARED_NAMESPACE = "urn:urdfinertia:undeclared:"
+"""Namespace given to undeclared prefixes (never a real one; tags become unknown names)."""
 _PREFIX_USE = re.compile(rb"[<\s/]([A-Za-z_][\w.-]*):[A-Za-z_][\w.-]*")
 _PREFIX_DECL = re.compile(rb"\bxmlns:([A-Za-z_][\w.-]*)\s*=")
 _ROOT_TAG = re.compile(rb"<([A-Za-z_][\w.:-]*)")
 
 
 def _plain_declaration(data: bytes, found: list) -> tuple[bytes, str | None]:
-    """``data`` with an XML declaration lxml refuses (version other than 1.x, or after
+    """`data` with an XML declaration lxml refuses (version other than 1.x, or after
     whitespace) blanked out with spaces, and the encoding it declares (or None)."""
     m = _DECLARATION.match(data)
     if m is None:
@@ -142,7 +143,7 @@ def _plain_declaration(data: bytes, found: list) -> tuple[bytes, str | None]:
 
 
 def _parse_leniently(text: bytes, file: str | Path, found: list) -> etree._Element:
-    """lxml on ``text``; undeclared prefixes and content after the root are read past
+    """lxml on `text`; undeclared prefixes and content after the root are read past
     (each at most once), anything else is the error it is."""
     declared_prefixes = False
     cut = False
@@ -171,7 +172,7 @@ def _parse_leniently(text: bytes, file: str | Path, found: list) -> etree._Eleme
 
 
 def _declare_prefixes(text: bytes, found: list) -> bytes | None:
-    """``text`` with every undeclared prefix declared on the root start tag (same line,
+    """`text` with every undeclared prefix declared on the root start tag (same line,
     so line numbers hold), or None when there is nothing to declare."""
     declared = set(_PREFIX_DECL.findall(text)) | {b"xml", b"xmlns"}
     used = dict.fromkeys(p for p in _PREFIX_USE.findall(text) if p not in declared)

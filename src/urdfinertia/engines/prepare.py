@@ -1,12 +1,12 @@
 """A copy of a URDF that an engine can load from a temporary folder, meshes resolved.
 
-No engine understands every URI users write: MuJoCo ignores ``package://`` and strips
-folders from mesh file names (``strippath`` is on for URDF), PyBullet searches
-``package://`` relative to the working directory. The copy names each mesh by its absolute
-path (resolved the way ``fix`` resolves it), turns MuJoCo's ``strippath`` off, and for
+No engine understands every URI users write: MuJoCo ignores `package://` and strips
+folders from mesh file names (`strippath` is on for URDF), PyBullet searches
+`package://` relative to the working directory. The copy names each mesh by its absolute
+path (resolved the way `fix` resolves it), turns MuJoCo's `strippath` off, and for
 MuJoCo, which reads STL, OBJ and MSH only, converts other meshes (COLLADA, ...) to binary
 STL with this package's reader. A geometry element whose mesh cannot be found is dropped:
-``check``'s own findings report that mesh, and the engine still gets to load the rest.
+`check`'s own findings report that mesh, and the engine still gets to load the rest.
 Inertials are copied byte for byte (lxml keeps attribute text as written).
 """
 
@@ -23,8 +23,8 @@ from urdfinertia.descriptions.xml import parse_document
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.mesh.read.load import load_mesh
 
-#: mesh suffixes MuJoCo reads itself
 MUJOCO_MESHES = (".stl", ".obj", ".msh")
+"""Mesh suffixes MuJoCo reads itself."""
 
 
 def write_stl(path: Path, vertices: np.ndarray, faces: np.ndarray) -> None:
@@ -41,7 +41,7 @@ def write_stl(path: Path, vertices: np.ndarray, faces: np.ndarray) -> None:
 
 def prepare_urdf(data: bytes, path: Path, folder: Path, *, for_mujoco: bool,
                  package_dirs: Mapping[str, Path] | None = None) -> Path:
-    """Write the engine copy of the URDF ``data`` (read from ``path``) into ``folder``."""
+    """Write the engine copy of the URDF `data` (read from `path`) into `folder`."""
     root = parse_document(data, path, ("robot",))
     urdf_dir = path.parent
     converted: dict[Path, Path] = {}
@@ -74,7 +74,7 @@ def _as_stl(source: Path, folder: Path, converted: dict[Path, Path]) -> Path:
 
 
 def _compiler(root: etree._Element) -> etree._Element:
-    """The ``<mujoco><compiler>`` element MuJoCo reads from a URDF, created if absent."""
+    """The `<mujoco><compiler>` element MuJoCo reads from a URDF, created if absent."""
     mujoco = root.find("mujoco")
     if mujoco is None:
         mujoco = etree.SubElement(root, "mujoco")
@@ -85,7 +85,7 @@ def _compiler(root: etree._Element) -> etree._Element:
 
 
 def mujoco_compiler_options(data: bytes, path: Path) -> dict[str, str]:
-    """The attributes of the URDF's own ``<mujoco><compiler>``, as written."""
+    """The attributes of the URDF's own `<mujoco><compiler>`, as written."""
     root = parse_document(data, path, ("robot",))
     compiler = root.find("mujoco/compiler")
     return dict(compiler.attrib) if compiler is not None else {}

@@ -1,6 +1,6 @@
 """Load one URDF in one engine and step it passively: run in a child process.
 
-``python -m urdfinertia.engines.probe ENGINE URDF OUT.json [--seconds S]`` writes what
+`python -m urdfinertia.engines.probe ENGINE URDF OUT.json [--seconds S]` writes what
 happened as JSON to OUT.json (stdout and stderr are left to the engine's own chatter,
 which the parent keeps for refusal messages). The base is fixed to the world in every
 engine, as arm users load it and as MuJoCo's URDF import does; gravity is -9.81 m/s^2
@@ -28,13 +28,14 @@ from pathlib import Path
 
 import numpy as np
 
-#: a joint speed at or above this (rad/s or m/s) in a passive run is a runaway, not
-#: motion: under gravity alone a swinging link reaches sqrt(2 g / k) rad/s at most (k its
-#: radius of gyration: 100 rad/s needs k < 2 mm). It is also PyBullet's own speed cap
-#: (maxJointVelocity), so a runaway there shows as a speed pinned at it.
 RUNAWAY_SPEED = 100.0
-#: Pinocchio has no stepper: semi-implicit Euler with MuJoCo's default time step.
+"""A joint speed at or above this (rad/s or m/s) in a passive run is a runaway, not motion: under
+gravity alone a swinging link reaches sqrt(2 g / k) rad/s at most (k its radius of gyration: 100
+rad/s needs k < 2 mm). It is also PyBullet's own speed cap (maxJointVelocity), so a runaway there
+shows as a speed pinned at it.
+"""
 PINOCCHIO_DT = 0.002
+"""Pinocchio has no stepper: semi-implicit Euler with MuJoCo's default time step."""
 GRAVITY = (0.0, 0.0, -9.81)
 
 
@@ -61,6 +62,21 @@ def _speeds(result: dict, t: float, names: list[tuple[str, str]], qvel: np.ndarr
 
 
 def probe_mujoco(path: Path, seconds: float) -> dict:
+    """Load `path` in MuJoCo and step a passive run (in this child process).
+
+    Parameters
+    ----------
+    path : Path
+        The description.
+    seconds : float
+        Simulated seconds.
+
+    Returns
+    -------
+    dict
+        JSON-ready: accepted, the error, NaN or instability, runaway joints, the masses and
+        inertias the engine simulates.
+    """
     import mujoco
 
     result = _result("mujoco")
@@ -96,6 +112,21 @@ def probe_mujoco(path: Path, seconds: float) -> dict:
 
 
 def probe_pybullet(path: Path, seconds: float) -> dict:
+    """Load `path` in PyBullet (DIRECT) and step a passive run (in this child process).
+
+    Parameters
+    ----------
+    path : Path
+        The description.
+    seconds : float
+        Simulated seconds.
+
+    Returns
+    -------
+    dict
+        JSON-ready: accepted, the error, NaN, runaway joints, the masses and inertias the engine
+        simulates.
+    """
     import pybullet as p
 
     result = _result("pybullet")
@@ -140,6 +171,20 @@ def probe_pybullet(path: Path, seconds: float) -> dict:
 
 
 def probe_pinocchio(path: Path, seconds: float) -> dict:
+    """Build `path`'s Pinocchio model and integrate a passive run (in this child process).
+
+    Parameters
+    ----------
+    path : Path
+        The description.
+    seconds : float
+        Simulated seconds.
+
+    Returns
+    -------
+    dict
+        JSON-ready: accepted, the error, NaN, runaway joints.
+    """
     import pinocchio as pin
 
     result = _result("pinocchio")
@@ -217,6 +262,18 @@ PROBES = {"mujoco": probe_mujoco, "pybullet": probe_pybullet, "pinocchio": probe
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The probe's command line: one engine, one file, the result as JSON in a file.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default: `sys.argv[1:]`).
+
+    Returns
+    -------
+    int
+        0.
+    """
     parser = argparse.ArgumentParser(prog="urdfinertia.engines.probe")
     parser.add_argument("engine", choices=sorted(PROBES))
     parser.add_argument("urdf", type=Path)

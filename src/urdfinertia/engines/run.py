@@ -36,14 +36,14 @@ ENGINES: dict[str, EngineSpec] = {
     "pinocchio": EngineSpec("pinocchio", "Pinocchio", "pinocchio", "pin"),
     "pybullet": EngineSpec("pybullet", "PyBullet", "pybullet", "pybullet"),
 }
-#: seconds a child may take to load and step one robot before it counts as hung
 DEFAULT_TIMEOUT = 120.0
-#: MuJoCo warnings that mean the simulation state went bad (MuJoCo then resets it)
+"""Seconds a child may take to load and step one robot before it counts as hung."""
 _BAD_STATE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
+"""MuJoCo warnings that mean the simulation state went bad (MuJoCo then resets it)"""
 
 
 def parse_engines(text: str) -> tuple[str, ...]:
-    """``mujoco,pybullet`` -> names; ``all`` is every known engine."""
+    """`mujoco,pybullet` -> names; `all` is every known engine."""
     names = [n.strip().lower() for n in text.split(",") if n.strip()]
     if names == ["all"]:
         return tuple(ENGINES)
@@ -55,6 +55,18 @@ def parse_engines(text: str) -> tuple[str, ...]:
 
 
 def installed(name: str) -> bool:
+    """Whether engine `name` can be imported (without importing it).
+
+    Parameters
+    ----------
+    name : str
+        "mujoco", "pinocchio" or "pybullet".
+
+    Returns
+    -------
+    bool
+        True when its module is found.
+    """
     return importlib.util.find_spec(ENGINES[name].module) is not None
 
 
@@ -70,13 +82,14 @@ class Outcome:
 
     @property
     def accepted(self) -> bool:
+        """The engine loaded the description."""
         return self.result is not None and bool(self.result["accepted"])
 
 
 def run_probe(engine: str, urdf: Path, *, seconds: float, timeout: float,
               shown_as: Path | None = None) -> Outcome:
-    """Load and step ``urdf`` in ``engine`` in a child process; messages naming ``urdf``
-    name ``shown_as`` instead (the user's file, not the engine's temporary copy)."""
+    """Load and step `urdf` in `engine` in a child process; messages naming `urdf`
+    name `shown_as` instead (the user's file, not the engine's temporary copy)."""
     outcome = _run_probe(engine, urdf, seconds=seconds, timeout=timeout)
     if shown_as is None:
         return outcome
@@ -116,7 +129,7 @@ def _text(data: bytes | str | None) -> str:
 
 @dataclass(frozen=True)
 class EngineCheck:
-    """``--engines``: which engines, how long a passive run, how long before a child hangs."""
+    """`--engines`: which engines, how long a passive run, how long before a child hangs."""
 
     engines: tuple[str, ...]
     seconds: float = 2.0
@@ -125,6 +138,24 @@ class EngineCheck:
     def outcomes(self, path: Path, robot: Robot,
                  package_dirs: Mapping[str, Path] | None = None,
                  data: bytes | None = None) -> dict[str, Outcome]:
+        """Load the description in each requested engine, each in a child process.
+
+        Parameters
+        ----------
+        path : Path
+            The description's file.
+        robot : Robot
+            Its model.
+        package_dirs : mapping of str to Path, optional
+            Where `package://` points.
+        data : bytes, optional
+            The document (default: read from `path`).
+
+        Returns
+        -------
+        dict of str to Outcome
+            Engine name -> what happened.
+        """
         data = read_bytes(path) if data is None else data
         found: dict[str, Outcome] = {}
         for name in self.engines:
@@ -145,6 +176,24 @@ class EngineCheck:
     def findings(self, path: Path, robot: Robot,
                  package_dirs: Mapping[str, Path] | None = None,
                  data: bytes | None = None) -> list[Finding]:
+        """The findings of loading the description in each requested engine (UI4xx).
+
+        Parameters
+        ----------
+        path : Path
+            The description's file.
+        robot : Robot
+            Its model.
+        package_dirs : mapping of str to Path, optional
+            Where `package://` points.
+        data : bytes, optional
+            The document (default: read from `path`).
+
+        Returns
+        -------
+        list of Finding
+            One or more per engine; UI410 when no engine reads the format.
+        """
         if robot.format != "urdf":
             return [Finding(Rule.ENGINE_SKIPPED, None,
                             f"engine checks read URDF only; this is {robot.format}")]
@@ -157,6 +206,24 @@ class EngineCheck:
 
 def outcome_findings(outcome: Outcome, robot: Robot, data: bytes, path: Path,
                      ) -> list[Finding]:
+    """The findings of one engine's outcome.
+
+    Parameters
+    ----------
+    outcome : Outcome
+        What happened in the engine.
+    robot : Robot
+        The model it loaded.
+    data : bytes
+        The document.
+    path : Path
+        Its file.
+
+    Returns
+    -------
+    list of Finding
+        Refused, NaN, unstable, runaway, crashed, or inertials it replaces.
+    """
     spec = ENGINES[outcome.engine]
     label = spec.label
     if outcome.missing:
@@ -200,7 +267,7 @@ def _one_line(text: str) -> str:
 
 
 def engine_lines(output: str) -> list[str]:
-    """An engine's console output as messages: Bullet's ``b3Error[file,line]:`` prefixes
+    """An engine's console output as messages: Bullet's `b3Error[file,line]:` prefixes
     become line breaks (it prints the message after them), its banner is dropped."""
     text = re.sub(r"b3(Error|Warning|Printf)\[[^\]]*\]:\s*", r"\n\1: ", output)
     keep: list[str] = []
@@ -226,7 +293,7 @@ def stable(outcome: Outcome) -> bool:
 
 def regressions(before: Mapping[str, Outcome], after: Mapping[str, Outcome],
                 ) -> list[Finding]:
-    """What ``fix`` made worse in an engine: refused (error) or unstable (warning) output
+    """What `fix` made worse in an engine: refused (error) or unstable (warning) output
     where the input was accepted or stable. Neither must ever happen."""
     out = []
     for name, old in before.items():
@@ -246,6 +313,18 @@ def regressions(before: Mapping[str, Outcome], after: Mapping[str, Outcome],
 
 
 def outcome_summary(outcome: Outcome) -> str:
+    """One engine's outcome in a word or two ("stable", "refused", "not installed").
+
+    Parameters
+    ----------
+    outcome : Outcome
+        What happened.
+
+    Returns
+    -------
+    str
+        The summary.
+    """
     if outcome.missing:
         return "not installed"
     if outcome.result is None:

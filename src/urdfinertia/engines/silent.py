@@ -1,10 +1,10 @@
 """What an engine does to inertials without refusing: defaults, replacements, bounds.
 
-PyBullet gives a link without ``<inertial>`` 1 kg and a unit diagonal, and sets the
+PyBullet gives a link without `<inertial>` 1 kg and a unit diagonal, and sets the
 tensor of a link it finds "bad" (its own triangle-inequality test after diagonalising) to
 zero, both with a console warning only. MuJoCo computes a missing inertial from the
-collision geometry at 1000 kg/m^3, and applies ``boundmass``, ``boundinertia``,
-``balanceinertia`` and ``inertiafromgeom`` when the URDF's ``<mujoco><compiler>`` asks.
+collision geometry at 1000 kg/m^3, and applies `boundmass`, `boundinertia`,
+`balanceinertia` and `inertiafromgeom` when the URDF's `<mujoco><compiler>` asks.
 Pinocchio's URDF parser (urdfdom) prints an error for a value it cannot parse and goes on.
 """
 
@@ -22,12 +22,34 @@ from urdfinertia.descriptions.model import Robot
 from urdfinertia.engines.prepare import mujoco_compiler_options
 from urdfinertia.rules import Rule
 
-#: relative difference of principal moments that counts as a change (float32 in Bullet)
 _CHANGED = 1e-3
+"""Relative difference of principal moments that counts as a change (float32 in Bullet)"""
 
 
 def silent_findings(engine: str, result: dict, robot: Robot, data: bytes, path: Path,
                     output: str) -> list[Finding]:
+    """The inertials an engine loaded but simulates differently (UI406, UI407).
+
+    Parameters
+    ----------
+    engine : str
+        The engine.
+    result : dict
+        Its probe's result.
+    robot : Robot
+        The model as read.
+    data : bytes
+        The document.
+    path : Path
+        Its file.
+    output : str
+        Where the finding says the values are ("input", "output").
+
+    Returns
+    -------
+    list of Finding
+        One per link whose inertial the engine replaces.
+    """
     if engine == "pybullet":
         return _pybullet(result, robot, output)
     if engine == "mujoco":

@@ -1,14 +1,16 @@
 """The mass-properties value type and the paper's frame algebra (eqs. 21-23, 43-46).
 
-Pure numpy. A :class:`MassProperties` is a rigid body's mass, its centre of mass and
-its inertia tensor about that centre of mass, all expressed in one frame F (the frame
-the object was built in or moved to). The inertia follows the URDF sign convention:
-off-diagonal entries are ``-integral(x y dm)`` (paper eq. 21/22).
+Pure numpy. A [`MassProperties`][urdfinertia.inertia.massprops.MassProperties] is a rigid body's
+mass, its centre of mass and its inertia tensor about that centre of mass, all expressed in one
+frame F (the frame the object was built in or moved to). The inertia follows the URDF sign
+convention: off-diagonal entries are `-integral(x y dm)` (paper eq. 21/22).
 
-Moving a body between frames is explicit: :meth:`MassProperties.rotated` (``A I A^T``,
-eq. 23 applied inside eq. 22) and :meth:`MassProperties.translated`; bodies combine with
-``+`` or :func:`combine`, which applies the Huygens-Steiner theorem about the common
-centre of mass (eqs. 43-44).
+Moving a body between frames is explicit:
+[`MassProperties.rotated`][urdfinertia.inertia.massprops.MassProperties.rotated] (`A I A^T`, eq. 23
+applied inside eq. 22) and
+[`MassProperties.translated`][urdfinertia.inertia.massprops.MassProperties.translated]; bodies
+combine with `+` or [`combine`][urdfinertia.inertia.massprops.combine], which applies the
+Huygens-Steiner theorem about the common centre of mass (eqs. 43-44).
 """
 
 from __future__ import annotations
@@ -24,9 +26,21 @@ from urdfinertia.inertia.validity import SEMIDEFINITE_RTOL, SYMMETRY_RTOL, is_va
 
 
 def point_mass_inertia(mass: float, offset: ArrayLike) -> np.ndarray:
-    """Inertia of a point mass at ``offset`` about the origin: ``m (|r|^2 E - r r^T)``.
+    """Inertia of a point mass at `offset` about the origin: `m (|r|^2 E - r r^T)`.
 
     This is the Huygens-Steiner term of eq. 43.
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    offset : (3,) float
+        Where the mass is, m.
+
+    Returns
+    -------
+    (3, 3) float
+        Its inertia about the origin, kg m^2, URDF sign convention.
     """
     r = np.asarray(offset, dtype=np.float64)
     term: np.ndarray = mass * (np.dot(r, r) * _EYE - np.outer(r, r))
@@ -40,12 +54,12 @@ class MassProperties:
     Attributes
     ----------
     mass : float
-        kg. Negative only for a cavity (see :meth:`negated`).
+        kg. Negative only for a cavity (see `negated`).
     com : (3,) float
         Centre of mass in F, m.
     inertia : (3, 3) float
-        Inertia about ``com`` along F's axes, kg m^2, URDF sign convention
-        (``inertia[0, 1] == -integral(x y dm)``).
+        Inertia about `com` along F's axes, kg m^2, URDF sign convention
+        (`inertia[0, 1] == -integral(x y dm)`).
     """
 
     mass: float
@@ -89,7 +103,7 @@ class MassProperties:
     def _derived(cls, mass: float, com: np.ndarray, inertia: np.ndarray) -> MassProperties:
         """A valid body moved rigidly or rescaled: checked for shape and finiteness only.
 
-        For the results of :meth:`rotated`, :meth:`translated` and :meth:`with_mass`: a
+        For the results of `rotated`, `translated` and `with_mass`: a
         proper rotation, a translation, or scaling mass and tensor by one factor keeps a
         valid body's tensor symmetric and its eigenvalues' signs matched to the mass's
         (up to round-off the symmetrisation removes), so the eigenvalue check of
@@ -112,36 +126,101 @@ class MassProperties:
     # --- named constructors -------------------------------------------------------
     @classmethod
     def zero(cls) -> MassProperties:
-        """The empty body (neutral element of ``+``)."""
+        """The empty body, the neutral element of `+`.
+
+        Returns
+        -------
+        MassProperties
+            Zero mass, CoM at the origin, zero tensor.
+        """
         return cls(0.0, np.zeros(3), np.zeros((3, 3)))
 
     @classmethod
     def from_inertia_about_point(
         cls, mass: float, com: ArrayLike, inertia: ArrayLike, point: ArrayLike
     ) -> MassProperties:
-        """Build from an inertia given about ``point`` (inverse of :meth:`about`)."""
+        """A body from an inertia given about `point` (the inverse of `about`).
+
+        Parameters
+        ----------
+        mass : float
+            kg.
+        com : (3,) float
+            The centre of mass in F, m.
+        inertia : (3, 3) float
+            The inertia about `point` along F's axes, kg m^2.
+        point : (3,) float
+            The point `inertia` is given about, m.
+
+        Returns
+        -------
+        MassProperties
+            The body, its inertia moved to the CoM (Huygens-Steiner).
+        """
         com = np.asarray(com, dtype=np.float64)
         shift = point_mass_inertia(mass, com - np.asarray(point, dtype=np.float64))
         return cls(mass, com, np.asarray(inertia, dtype=np.float64) - shift)
 
     # --- frame changes -------------------------------------------------------------
     def rotated(self, rotation: ArrayLike) -> MassProperties:
-        """The body rotated by ``rotation`` about F's origin: ``c' = A c``, ``I' = A I A^T``.
+        """The body rotated by `rotation` about F's origin: `c' = A c`, `I' = A I A^T`.
 
         Equivalently: the same body expressed in a parent frame whose axes relate to F's
-        by ``r_parent = A r_F`` (eqs. 23-26).
+        by `r_parent = A r_F` (eqs. 23-26).
+
+        Parameters
+        ----------
+        rotation : (3, 3) float
+            A proper rotation matrix `A`.
+
+        Returns
+        -------
+        MassProperties
+            The rotated body.
+
+        Raises
+        ------
+        ValueError
+            When `rotation` is not a proper rotation.
         """
         a = _rotation(rotation)
         return MassProperties._derived(self.mass, a @ self.com, a @ self.inertia @ a.T)
 
     def translated(self, offset: ArrayLike) -> MassProperties:
-        """The body moved by ``offset``; its central inertia is unchanged."""
+        """The body moved by `offset`; its central inertia is unchanged.
+
+        Parameters
+        ----------
+        offset : (3,) float
+            The translation, m.
+
+        Returns
+        -------
+        MassProperties
+            The moved body.
+        """
         return MassProperties._derived(self.mass,
                                      self.com + np.asarray(offset, dtype=np.float64),
                                      self.inertia)
 
     def transformed(self, transform: ArrayLike) -> MassProperties:
-        """Apply a rigid (4, 4) transform: rotate about F's origin, then translate."""
+        """The body under a rigid transform: rotated about F's origin, then translated.
+
+        Parameters
+        ----------
+        transform : (4, 4) float
+            A homogeneous transform (rotation and translation, m).
+
+        Returns
+        -------
+        MassProperties
+            The transformed body.
+
+        Raises
+        ------
+        ValueError
+            When `transform` is not (4, 4) or its rotation part not a proper rotation.
+        """
         t = np.asarray(transform, dtype=np.float64)
         if t.shape != (4, 4):
             raise ValueError(f"transform must have shape (4, 4), got {t.shape}")
@@ -153,7 +232,18 @@ class MassProperties:
         return MassProperties._derived(self.mass, a @ self.com + t[:3, 3], inertia)
 
     def about(self, point: ArrayLike) -> np.ndarray:
-        """Inertia tensor about ``point`` along F's axes (Huygens-Steiner, eq. 43)."""
+        """The inertia tensor about `point` along F's axes (Huygens-Steiner, eq. 43).
+
+        Parameters
+        ----------
+        point : (3,) float
+            The reference point in F, m.
+
+        Returns
+        -------
+        (3, 3) float
+            The inertia about `point`, kg m^2.
+        """
         moved: np.ndarray = self.inertia + point_mass_inertia(
             self.mass, self.com - np.asarray(point, dtype=np.float64)
         )
@@ -166,11 +256,33 @@ class MassProperties:
         return combine([self, other])
 
     def negated(self) -> MassProperties:
-        """The same shape as a cavity: negative mass and inertia (removed material)."""
+        """The same shape as a cavity: negative mass and inertia (removed material).
+
+        Returns
+        -------
+        MassProperties
+            The body with mass and tensor negated; adding it to a solid subtracts it.
+        """
         return MassProperties(-self.mass, self.com, -self.inertia)
 
     def with_mass(self, mass: float) -> MassProperties:
-        """The same geometry with its density scaled so that the mass is ``mass``."""
+        """The same geometry with its density scaled so that the mass is `mass`.
+
+        Parameters
+        ----------
+        mass : float
+            The new mass, kg.
+
+        Returns
+        -------
+        MassProperties
+            The same CoM, the tensor scaled by `mass / self.mass`.
+
+        Raises
+        ------
+        ValueError
+            When this body's mass is zero.
+        """
         if self.mass == 0:
             raise ValueError("cannot rescale a body of zero mass")
         k = float(mass) / self.mass
@@ -178,14 +290,29 @@ class MassProperties:
 
     # --- analysis --------------------------------------------------------------------
     def principal(self) -> tuple[np.ndarray, np.ndarray]:
-        """Principal moments (ascending) and axes (columns, right-handed)."""
+        """The principal moments and axes of the central inertia.
+
+        Returns
+        -------
+        moments : (3,) float
+            Ascending, kg m^2.
+        axes : (3, 3) float
+            The principal axes as columns, right-handed, in F.
+        """
         moments, axes = np.linalg.eigh(self.inertia)
         if np.linalg.det(axes) < 0:
             axes[:, 2] *= -1
         return moments, axes
 
     def is_physical(self) -> bool:
-        """True when mass > 0 and the tensor is valid (:func:`validity.is_valid_tensor`)."""
+        """Whether a positive mass has this tensor.
+
+        Returns
+        -------
+        bool
+            True when mass > 0 and the tensor is valid
+            ([`is_valid_tensor`][urdfinertia.inertia.validity.is_valid_tensor]).
+        """
         return self.mass > 0 and is_valid_tensor(self.inertia)
 
     def __repr__(self) -> str:
@@ -197,8 +324,22 @@ class MassProperties:
 def combine(bodies: Iterable[MassProperties]) -> MassProperties:
     """Sum of bodies about their common centre of mass (eqs. 3, 43-44).
 
-    Cavities (negative mass) subtract. The total mass must not be zero unless every
-    body is empty.
+    Cavities (negative mass) subtract.
+
+    Parameters
+    ----------
+    bodies : iterable of MassProperties
+        The bodies, all expressed in the same frame.
+
+    Returns
+    -------
+    MassProperties
+        Their sum: total mass, common CoM, inertia about it (the empty body for none).
+
+    Raises
+    ------
+    ValueError
+        When the masses sum to zero and not every body is empty.
     """
     items = list(bodies)
     if not items:
@@ -244,21 +385,22 @@ def _rotation(rotation: ArrayLike) -> np.ndarray:
     return a
 
 
-#: Margin of :func:`_surely_semidefinite`, relative to the tensor's largest entry: far
-#: above the round-off of a 3 x 3 LDL^T factorisation (~1e-15) and of LAPACK's
-#: eigenvalues (~1e-14) both, far below the tolerance itself (1e-9 of the trace).
 _SEMIDEFINITE_MARGIN = 1e-12
-#: Entries outside this range take the eigenvalue test: no underflow or overflow below.
+"""Margin of `_surely_semidefinite`, relative to the tensor's largest entry: far above the
+round-off of a 3 x 3 LDL^T factorisation (~1e-15) and of LAPACK's eigenvalues (~1e-14) both, far
+below the tolerance itself (1e-9 of the trace).
+"""
 _SEMIDEFINITE_RANGE = (1e-150, 1e150)
+"""Entries outside this range take the eigenvalue test: no underflow or overflow below."""
 
 
 def _surely_semidefinite(s00: float, s01: float, s02: float, s11: float, s12: float,
                          s22: float, slack: float) -> bool:
-    """True when the symmetric tensor's smallest eigenvalue is above ``-slack`` by a margin
-    no round-off can cross, so that ``np.linalg.eigvalsh`` would find it above ``-slack``
+    """True when the symmetric tensor's smallest eigenvalue is above `-slack` by a margin
+    no round-off can cross, so that `np.linalg.eigvalsh` would find it above `-slack`
     too; False when in doubt (the caller then computes the eigenvalues).
 
-    The tensor shifted by ``slack - margin`` is factorised as ``L D L^T``: all pivots
+    The tensor shifted by `slack - margin` is factorised as `L D L^T`: all pivots
     positive proves it positive definite up to the factorisation's round-off (backward
     stable for a positive definite matrix), far smaller than the margin.
     """

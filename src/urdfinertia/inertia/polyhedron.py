@@ -13,23 +13,48 @@ from numpy.typing import ArrayLike
 
 from urdfinertia.inertia.massprops import _EYE, MassProperties
 
-#: The contraction orders ``optimize=True`` finds for the two second-moment sums, for
-#: every face count (``(x x^T)`` first, then ``det``; ``det s`` first), given so that each
-#: call does not search for them again.
 _SECOND_PATH = ["einsum_path", (1, 2), (0, 1)]
+"""The contraction orders `optimize=True` finds for the two second-moment sums, for every face
+count (`(x x^T)` first, then `det`; `det s` first), given so that each call does not search
+for them again.
+"""
 _CENTRE_PATH = ["einsum_path", (0, 1), (0, 1)]
 
 
 def used_vertices(n: int, faces: np.ndarray) -> np.ndarray:
-    """(n,) bool: which of ``n`` vertices the faces use (O(n), no sort)."""
+    """Which of `n` vertices the faces use (O(n), no sort).
+
+    Parameters
+    ----------
+    n : int
+        The number of vertices.
+    faces : (m, 3) int
+        Vertex indices.
+
+    Returns
+    -------
+    (n,) bool
+        True for a vertex some face uses.
+    """
     used = np.zeros(n, dtype=bool)
     used[np.asarray(faces).reshape(-1)] = True
     return used
 
 
 def cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``np.cross(a, b)`` of two (n, 3) float64 arrays, bit for bit: the same products and
-    differences (``a1 b2 - a2 b1``, ...), without its axis handling and temporaries."""
+    """`np.cross(a, b)` of two (n, 3) float64 arrays, bit for bit: the same products and
+    differences (`a1 b2 - a2 b1`, ...), without its axis handling and temporaries.
+
+    Parameters
+    ----------
+    a, b : (n, 3) float
+        Row vectors.
+
+    Returns
+    -------
+    (n, 3) float
+        Their row-wise cross products.
+    """
     a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
     b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
     out = np.empty((len(a), 3))
@@ -44,14 +69,25 @@ def cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def face_volumes(triangles: np.ndarray) -> np.ndarray:
-    """(n,) signed volume of each face's tetrahedron with the origin."""
+    """The signed volume of each face's tetrahedron with the origin.
+
+    Parameters
+    ----------
+    triangles : (n, 3, 3) float
+        Each face's corners, m.
+
+    Returns
+    -------
+    (n,) float
+        m^3; positive for a face oriented counter-clockwise seen from outside.
+    """
     tri = np.asarray(triangles, dtype=np.float64)
     volumes: np.ndarray = np.einsum("ij,ij->i", tri[:, 0], cross_rows(tri[:, 1], tri[:, 2]))
     return volumes / 6.0
 
 
 def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.ndarray, np.ndarray]:
-    """Volume, ``integral(x dV)`` and ``integral(x x^T dV)`` of a closed oriented mesh.
+    """Volume, `integral(x dV)` and `integral(x x^T dV)` of a closed oriented mesh.
 
     Parameters
     ----------
@@ -100,9 +136,28 @@ def solid_integrals(vertices: ArrayLike, faces: ArrayLike) -> tuple[float, np.nd
 def mass_properties_from_integrals(
     volume: float, first: ArrayLike, second: ArrayLike, density: float
 ) -> MassProperties:
-    """Mass properties of a solid from its volume integrals about the origin.
+    """The mass properties of a homogeneous solid from its volume integrals.
 
-    ``volume`` must be positive (an outward-oriented solid).
+    Parameters
+    ----------
+    volume : float
+        m^3; positive (an outward-oriented solid).
+    first : (3,) float
+        `integral(x dV)` about the origin, m^4.
+    second : (3, 3) float
+        `integral(x x^T dV)` about the origin, m^5.
+    density : float
+        kg/m^3.
+
+    Returns
+    -------
+    MassProperties
+        Mass, CoM and the inertia about it, in the mesh's frame.
+
+    Raises
+    ------
+    ValueError
+        When `volume` is not positive.
     """
     if not volume > 0:
         raise ValueError(f"solid volume must be positive, got {volume!r}")
@@ -117,6 +172,26 @@ def mass_properties_from_integrals(
 
 
 def mesh_mass_properties(vertices: ArrayLike, faces: ArrayLike, density: float) -> MassProperties:
-    """Exact mass properties of a closed, outward-oriented triangle mesh."""
+    """The exact mass properties of a closed, outward-oriented, homogeneous triangle mesh.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float
+        m.
+    faces : (m, 3) int
+        Vertex indices, counter-clockwise seen from outside.
+    density : float
+        kg/m^3.
+
+    Returns
+    -------
+    MassProperties
+        In the mesh's frame.
+
+    Raises
+    ------
+    ValueError
+        When the enclosed volume is not positive (an open or inward-oriented mesh).
+    """
     volume, first, second = solid_integrals(vertices, faces)
     return mass_properties_from_integrals(volume, first, second, density)

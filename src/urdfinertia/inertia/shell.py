@@ -1,25 +1,25 @@
-"""Shells: a solid's wall of thickness ``t`` and the interior it encloses (pure numpy).
+"""Shells: a solid's wall of thickness `t` and the interior it encloses (pure numpy).
 
-The wall is the outer solid minus its *inner parallel body*, the points at least ``t``
+The wall is the outer solid minus its *inner parallel body*, the points at least `t`
 inside the surface; the interior is that inner body (where a 3-D printer puts infill).
 Both are returned as volume integrals at unit density, so the wall is exact whenever the
 inner body is:
 
 * box, sphere, cylinder, capsule, cone: the inner body is the same primitive, smaller
-  (a cone's apex moves in by ``t / sin(half-angle)``): exact closed forms;
+  (a cone's apex moves in by `t / sin(half-angle)`): exact closed forms;
 * ellipsoid: the inner body is *not* an ellipsoid. The wall is integrated over the
-  tube ``x = p(u) - s n(u)``, ``0 <= s <= t``, whose volume element is
-  ``(1 - 2 H s + K s^2) dA ds`` (H, K: mean and Gaussian curvature). That is exact while
-  ``t`` is below the smallest radius of curvature ``c^2 / a`` (Blaschke's rolling ball);
+  tube `x = p(u) - s n(u)`, `0 <= s <= t`, whose volume element is
+  `(1 - 2 H s + K s^2) dA ds` (H, K: mean and Gaussian curvature). That is exact while
+  `t` is below the smallest radius of curvature `c^2 / a` (Blaschke's rolling ball);
   the surface integral is done by Gauss-Legendre x trapezoid quadrature, converged to
   round-off for the resolutions used (see the tests);
-* meshes: each vertex moves inward so that each adjacent face plane moves by ``t``
+* meshes: each vertex moves inward so that each adjacent face plane moves by `t`
   (least squares on the face normals, weighted by the corner angles). That is the exact
   inner offset wherever at most three distinct planes meet at a vertex (a box, any
   convex polyhedron with simple corners); elsewhere the planes miss the vertex by a
-  residual, and ``sum(face area x residual)`` is the stated error of the wall volume.
-  An offset that inverts a face, leaves the solid or comes closer than ``t`` to another
-  part of the surface (a wall thicker than half the part) raises :class:`ShellError`.
+  residual, and `sum(face area x residual)` is the stated error of the wall volume.
+  An offset that inverts a face, leaves the solid or comes closer than `t` to another
+  part of the surface (a wall thicker than half the part) raises `ShellError`.
 """
 
 from __future__ import annotations
@@ -38,17 +38,20 @@ from urdfinertia.inertia.polyhedron import (
     solid_integrals,
 )
 
-#: Eigenvalues of a vertex's normal matrix below this fraction of its largest belong to
-#: directions no adjacent face constrains (a flat or straight neighbourhood).
 _RANK_RTOL = 1e-9
-#: About this many vertex-face pairs are tested for the depth and containment checks (all
-#: vertices of a mesh under ~2000 faces, an even sample of larger ones).
+"""Eigenvalues of a vertex's normal matrix below this fraction of its largest belong to directions
+no adjacent face constrains (a flat or straight neighbourhood).
+"""
 _CHECK_PAIRS = 2_000_000
-#: Meshes with more faces than this have only a sample of their vertices depth-checked.
+"""About this many vertex-face pairs are tested for the depth and containment checks (all vertices
+of a mesh under ~2000 faces, an even sample of larger ones).
+"""
 CHECKED_FACES = int(np.sqrt(2 * _CHECK_PAIRS))
-#: Quadrature of the ellipsoid's wall: Gauss-Legendre nodes in the polar angle, trapezoid
-#: nodes in the azimuth (exact for the cubic-in-s integrands with 3 nodes in s).
+"""Meshes with more faces than this have only a sample of their vertices depth-checked."""
 _ELLIPSOID_NODES = (160, 320)
+"""Quadrature of the ellipsoid's wall: Gauss-Legendre nodes in the polar angle, trapezoid nodes in
+the azimuth (exact for the cubic-in-s integrands with 3 nodes in s).
+"""
 
 
 class ShellError(ValueError):
@@ -65,7 +68,7 @@ class Shell:
     Attributes
     ----------
     wall, interior : (volume, first (3,), second (3, 3))
-        ``integral(1, x, x x^T dV)`` of the wall and of the inner body.
+        `integral(1, x, x x^T dV)` of the wall and of the inner body.
     error : float
         Stated relative error of the wall volume (0 for exact methods).
     method : str
@@ -78,8 +81,23 @@ class Shell:
     method: str
 
     def filled(self, weight: float) -> MassProperties:
-        """Unit-density mass properties of the wall plus the interior at ``weight`` times
-        the wall's density (0: hollow, 1: solid)."""
+        """The wall plus the interior at `weight` times the wall's density.
+
+        Parameters
+        ----------
+        weight : float
+            The infill: 0 hollow, 1 solid.
+
+        Returns
+        -------
+        MassProperties
+            At unit density of the wall.
+
+        Raises
+        ------
+        ValueError
+            When `weight` is negative or not finite.
+        """
         if not (math.isfinite(weight) and weight >= 0):
             raise ValueError(f"infill weight must be >= 0 and finite, got {weight!r}")
         (v0, f0, s0), (v1, f1, s1) = self.wall, self.interior
@@ -88,8 +106,19 @@ class Shell:
 
 
 def moments_of(body: MassProperties) -> Moments:
-    """``(volume, first, second)`` of a unit-density body (inverse of
-    :func:`~urdfinertia.inertia.polyhedron.mass_properties_from_integrals`)."""
+    """The volume integrals of a unit-density body (the inverse of
+    [`mass_properties_from_integrals`][urdfinertia.inertia.polyhedron.mass_properties_from_integrals]).
+
+    Parameters
+    ----------
+    body : MassProperties
+        At unit density.
+
+    Returns
+    -------
+    (float, (3,) float, (3, 3) float)
+        `(volume, integral(x dV), integral(x x^T dV))` about the origin.
+    """
     m, c = body.mass, body.com
     cov = 0.5 * np.trace(body.inertia) * _EYE - body.inertia  # central integral(x x^T)
     return m, m * c, cov + m * np.outer(c, c)
@@ -114,7 +143,25 @@ def _too_thick(t: float, limit: float, what: str) -> ShellError:
 # --- primitives -------------------------------------------------------------------------
 
 def box_shell(size: ArrayLike, t: float) -> Shell:
-    """Box of full sides ``size``: the interior is the box ``size - 2 t``."""
+    """A box's shell: the interior is the box `size - 2 t`.
+
+    Parameters
+    ----------
+    size : (3,) float
+        The full side lengths, m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     s = np.asarray(size, dtype=np.float64)
     if not s.min() > 2 * t:
@@ -124,6 +171,25 @@ def box_shell(size: ArrayLike, t: float) -> Shell:
 
 
 def sphere_shell(radius: float, t: float) -> Shell:
+    """A sphere's shell: the interior is the sphere of radius `radius - t`.
+
+    Parameters
+    ----------
+    radius : float
+        m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     if not radius > t:
         raise _too_thick(t, radius, "the radius")
@@ -132,7 +198,27 @@ def sphere_shell(radius: float, t: float) -> Shell:
 
 
 def cylinder_shell(radius: float, length: float, t: float) -> Shell:
-    """Closed cylinder: walls and both end caps ``t`` thick."""
+    """A closed cylinder's shell: walls and both end caps `t` thick.
+
+    Parameters
+    ----------
+    radius : float
+        m.
+    length : float
+        The full length along z, m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     if not (radius > t and length > 2 * t):
         raise _too_thick(t, min(radius, length / 2), "the radius or half the length")
@@ -142,7 +228,27 @@ def cylinder_shell(radius: float, length: float, t: float) -> Shell:
 
 
 def capsule_shell(radius: float, length: float, t: float) -> Shell:
-    """A capsule's inner body is the capsule of radius ``r - t`` on the same segment."""
+    """A capsule's shell: the inner body is the capsule of radius `r - t` on the same segment.
+
+    Parameters
+    ----------
+    radius : float
+        m.
+    length : float
+        The cylindrical section's length, m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     if not radius > t:
         raise _too_thick(t, radius, "the radius")
@@ -152,8 +258,29 @@ def capsule_shell(radius: float, length: float, t: float) -> Shell:
 
 
 def cone_shell(radius: float, height: float, t: float) -> Shell:
-    """Cone as :func:`~urdfinertia.inertia.primitives.cone`: the inner body is a cone of
-    the same half-angle ``a``, base raised by ``t``, apex lowered by ``t / sin a``."""
+    """A cone's shell, the cone as [`cone`][urdfinertia.inertia.primitives.cone]: the inner
+    body is a cone of the same half-angle `a`, base raised by `t`, apex lowered by
+    `t / sin a`.
+
+    Parameters
+    ----------
+    radius : float
+        The base's radius, m.
+    height : float
+        m.
+    t : float
+        The wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     sin_a = radius / math.hypot(radius, height)
     inner_h = height - t - t / sin_a
@@ -167,7 +294,27 @@ def cone_shell(radius: float, height: float, t: float) -> Shell:
 
 def ellipsoid_shell(radii: ArrayLike, t: float,
                     nodes: tuple[int, int] = _ELLIPSOID_NODES) -> Shell:
-    """Ellipsoid of semi-axes ``radii``: the wall as a tube integral (module docstring)."""
+    """An ellipsoid's shell: the wall as a tube integral (module docstring).
+
+    Parameters
+    ----------
+    radii : (3,) float
+        The semi-axes, m.
+    t : float
+        The wall thickness, m.
+    nodes : (int, int)
+        The quadrature's nodes along the two surface parameters.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
+
+    Raises
+    ------
+    ShellError
+        When `t` is not positive, or the wall leaves no interior.
+    """
     t = _thickness(t)
     a, b, c = (float(r) for r in np.asarray(radii, dtype=np.float64))
     reach = min(a, b, c) ** 2 / max(a, b, c)
@@ -215,14 +362,21 @@ def mesh_shell(vertices: ArrayLike, faces: ArrayLike, t: float) -> Shell:
     Parameters
     ----------
     vertices : (n, 3) float
+        m.
     faces : (m, 3) int
+        Vertex indices, counter-clockwise seen from outside.
     t : float
         Wall thickness, m.
+
+    Returns
+    -------
+    Shell
+        The wall's and the interior's volume integrals (unit density).
 
     Raises
     ------
     ShellError
-        The offset inverts faces, leaves the solid, comes closer than ``t`` to the
+        The offset inverts faces, leaves the solid, comes closer than `t` to the
         surface elsewhere, or encloses no volume.
     """
     t = _thickness(t)
@@ -278,7 +432,7 @@ def _corner_angles(tri: np.ndarray) -> np.ndarray:
 
 def _check_offset(v: np.ndarray, f: np.ndarray, inner: np.ndarray, cross: np.ndarray,
                   live: np.ndarray, t: float, residual: np.ndarray) -> None:
-    """Raise :class:`ShellError` unless the offset surface is a valid inner body."""
+    """Raise `ShellError` unless the offset surface is a valid inner body."""
     tri = inner[f]
     inner_cross = cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     flipped = int(np.count_nonzero(np.einsum("ij,ij->i", inner_cross, cross)[live] <= 0))
@@ -333,7 +487,7 @@ def _winding_numbers(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
 
 
 def _distances(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """(q,) distance from each point ``p[i]`` to the triangle ``tri[i]``."""
+    """(q,) distance from each point `p[i]` to the triangle `tri[i]`."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     n = cross_rows(b - a, c - a)
     nn = np.einsum("ij,ij->i", n, n)

@@ -1,37 +1,38 @@
 """One-edit repairs of a written inertial: the slip an author made, searched and ranked.
 
-Pure numpy. A wrong CAD inertial is usually wrong by one slip, not wholesale: a power of ten
-on one entry, grams for kilograms, kg mm^2 for kg m^2, products of inertia with CAD's sign
-(``+integral(xy dm)`` where URDF wants ``-integral(xy dm)``), the entries in another order,
-the tensor about the link origin instead of the CoM, the CoM in millimetres, the origin's
-``rpy`` applied twice or not at all. :func:`candidate_edits` lists every such edit of the
-written values; :func:`rank_edits` scores each against the homogeneous solid of the link's
-geometry (:class:`Solid`) and :func:`propose` returns the best edit when it is clearly the
-one.
+Pure numpy. A wrong CAD inertial is usually wrong by one slip, not wholesale: a power of ten on one
+entry, grams for kilograms, kg mm^2 for kg m^2, products of inertia with CAD's sign (`+integral(xy
+dm)` where URDF wants `-integral(xy dm)`), the entries in another order, the tensor about the link
+origin instead of the CoM, the CoM in millimetres, the origin's `rpy` applied twice or not at all.
+[`candidate_edits`][urdfinertia.inertia.slips.candidate_edits] lists every such edit of the written
+values; [`rank_edits`][urdfinertia.inertia.slips.rank_edits] scores each against the homogeneous
+solid of the link's geometry ([`Solid`][urdfinertia.inertia.slips.Solid]) and
+[`propose`][urdfinertia.inertia.slips.propose] returns the best edit when it is clearly the one.
 
 The score
 ---------
-The score of an edit is a negative log-likelihood (chi-square units: a difference of ``d``
-is a likelihood ratio of ``exp(d / 2)``) of the edited inertial given the geometry, plus
+The score of an edit is a negative log-likelihood (chi-square units: a difference of `d`
+is a likelihood ratio of `exp(d / 2)`) of the edited inertial given the geometry, plus
 the edit's prior cost:
 
 - each diagonal entry against the solid's at the edited mass: ``(ln(I_ii / G_ii) /
   SIGMA_MOMENT)^2``; real links are hollow and uneven, so CAD's moments scatter around the
-  solid's by a factor (:data:`SIGMA_MOMENT`, measured on real robots), not a fraction;
-- each product, normalised ``I_ij / sqrt(I_ii I_jj)`` (in -1..1), against the solid's:
-  ``(difference / SIGMA_PRODUCT)^2``;
-- the implied density against a typical link's: ``(ln(rho / RHO_TYPICAL) / SIGMA_DENSITY)^2``;
-- the CoM's distance from the solid's centroid in box diagonals: ``(d / SIGMA_COM)^2``;
-- the prior cost of the edit (:data:`PRIOR_COST`): no edit costs nothing, one unit slip of
+  solid's by a factor (`SIGMA_MOMENT`, measured on real robots), not a fraction;
+- each product, normalised `I_ij / sqrt(I_ii I_jj)` (in -1..1), against the solid's:
+  `(difference / SIGMA_PRODUCT)^2`;
+- the implied density against a typical link's: `(ln(rho / RHO_TYPICAL) / SIGMA_DENSITY)^2`;
+- the CoM's distance from the solid's centroid in box diagonals: `(d / SIGMA_COM)^2`;
+- the prior cost of the edit (`PRIOR_COST`): no edit costs nothing, one unit slip of
   the whole inertial a little, a power of ten on one of six entries more.
 
-An edit is *feasible* when its inertial is valid (positive mass, symmetric, positive
-definite, triangle inequality), plausible against the geometry as ``check`` judges it
-(:class:`Limits`), and its tensor lies within the geometry's error bar (relative Frobenius
-difference at most ``Limits.band``). :func:`propose` gives the lowest-scoring feasible edit
-when it is not "no edit" and the next feasible one (the runner-up, "no edit" included)
-scores at least :data:`MARGIN` more. A placeholder-shaped tensor (three equal diagonal
-entries) gets no proposal: it was typed, not exported with a slip.
+An edit is *feasible* when its inertial is valid (positive mass, symmetric, positive definite,
+triangle inequality), plausible against the geometry as `check` judges it
+([`Limits`][urdfinertia.inertia.slips.Limits]), and its tensor lies within the geometry's error bar
+(relative Frobenius difference at most `Limits.band`).
+[`propose`][urdfinertia.inertia.slips.propose] gives the lowest-scoring feasible edit when it is not
+"no edit" and the next feasible one (the runner-up, "no edit" included) scores at least `MARGIN`
+more. A placeholder-shaped tensor (three equal diagonal entries) gets no proposal: it was typed, not
+exported with a slip.
 """
 
 from __future__ import annotations
@@ -49,42 +50,53 @@ from urdfinertia.inertia.validity import diagnose_tensor
 
 # The spreads below are measured on 123 de-duplicated CAD links that ``check`` finds
 # plausible, from 10 packages (``scripts/bench_slips.py``'s corpus, 6 files a package):
-#: Spread of ln(CAD moment / homogeneous solid's moment): standard deviation 0.68 (the
-#: e-fold of the factor by which a hollow, uneven link's moment differs from its solid's).
 SIGMA_MOMENT = 0.7
-#: Spread of a normalised product of inertia around the solid's: standard deviation 0.12.
+"""Spread of ln(CAD moment / homogeneous solid's moment): standard deviation 0.68 (the e-fold of the
+factor by which a hollow, uneven link's moment differs from its solid's).
+"""
 SIGMA_PRODUCT = 0.12
-#: A typical link's mass over its geometry's volume (kg/m^3; median 1000) and the spread
-#: of its logarithm (standard deviation 0.96).
+"""Spread of a normalised product of inertia around the solid's: standard deviation 0.12."""
 RHO_TYPICAL = 1000.0
+"""A typical link's mass over its geometry's volume (kg/m^3; median 1000) and the spread of its
+logarithm (standard deviation 0.96).
+"""
 SIGMA_DENSITY = 1.0
-#: Spread of the CoM's distance from the solid's centroid, in box diagonals (rms 0.13).
 SIGMA_COM = 0.13
-#: How much more the runner-up must score for the best edit to be proposed (chi-square
-#: units: a likelihood ratio of exp(MARGIN / 2), about 90).
+"""Spread of the CoM's distance from the solid's centroid, in box diagonals (rms 0.13)."""
 MARGIN = 9.0
-#: Prior cost of an edit by class: how unlikely the slip is before looking at the numbers.
+"""How much more the runner-up must score for the best edit to be proposed (chi-square units: a
+likelihood ratio of exp(MARGIN / 2), about 90).
+"""
 PRIOR_COST = {"none": 0.0, "mass-unit": 2.0, "tensor-unit": 2.0, "inertial-unit": 3.0,
               "com-unit": 2.0, "products-sign": 2.0, "product-sign": 4.0, "order": 3.0,
               "parallel-axis": 2.0, "rpy": 3.0, "entry-power": 4.0}
-#: Slip classes, in the order the docs list them.
+"""Prior cost of an edit by class: how unlikely the slip is before looking at the numbers."""
 SLIP_CLASSES = tuple(k for k in PRIOR_COST if k != "none")
+"""Slip classes, in the order the docs list them."""
 ENTRIES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-#: Powers of ten tried on a single entry.
 ENTRY_POWERS = tuple(k for k in range(-9, 10) if k != 0)
+"""Powers of ten tried on a single entry."""
 _DIAG = (0, 3, 5)
 _PRODUCTS = ((1, 0, 1), (2, 0, 2), (4, 1, 2))  # (entry index, row, column)
-#: Two edits whose values agree to this relative tolerance are the same edit.
 SAME_RTOL = 1e-9
+"""Two edits whose values agree to this relative tolerance are the same edit."""
 
 
 @dataclass(frozen=True, eq=False)
 class Written:
     """An inertial as written: the values a slip is made in, in the file's own terms.
 
-    mass : kg. xyz : (3,) CoM in the link frame, m. rpy : (3,) the inertial origin's
-    angles. entries : (6,) ``ixx ixy ixz iyy iyz izz`` along the origin's axes, URDF sign
-    convention (``ixy = -integral(xy dm)``), kg m^2.
+    Attributes
+    ----------
+    mass : float
+        kg.
+    xyz : (3,) float
+        The CoM in the link frame, m.
+    rpy : (3,) float
+        The inertial origin's angles, rad.
+    entries : (6,) float
+        `ixx ixy ixz iyy iyz izz` along the origin's axes, URDF sign convention
+        (`ixy = -integral(xy dm)`), kg m^2.
     """
 
     mass: float
@@ -101,7 +113,7 @@ class Written:
         object.__setattr__(self, "mass", float(self.mass))
 
     def tensor(self) -> np.ndarray:
-        """(3, 3) tensor about the CoM along the link frame's axes."""
+        """The (3, 3) tensor about the CoM along the link frame's axes, kg m^2."""
         rot = rpy_matrix(self.rpy)
         turned: np.ndarray = rot @ _matrix(self.entries) @ rot.T
         return turned
@@ -111,9 +123,17 @@ class Written:
 class Solid:
     """The homogeneous solid of the link's geometry, the reference an edit is held to.
 
-    volume : m^3. centroid : (3,) link frame, m. inertia : (3, 3) about the centroid along
-    the link's axes at unit mass (kg m^2 per kg: scaled by the mass under test).
-    lo, hi : (3,) the geometry's bounding box in the link frame.
+    Attributes
+    ----------
+    volume : float
+        m^3.
+    centroid : (3,) float
+        In the link frame, m.
+    inertia : (3, 3) float
+        About the centroid along the link's axes at unit mass (kg m^2 per kg: scaled by the
+        mass under test).
+    lo, hi : (3,) float
+        The geometry's bounding box in the link frame, m.
     """
 
     volume: float
@@ -124,28 +144,39 @@ class Solid:
 
     @property
     def diagonal(self) -> float:
+        """The length of the bounding box's diagonal, m."""
         return float(np.linalg.norm(np.asarray(self.hi) - np.asarray(self.lo)))
 
 
 @dataclass(frozen=True)
 class Limits:
-    """What ``check`` accepts, so that an edit it proposes is not flagged again.
+    """What `check` accepts, so that an edit it proposes is not flagged again.
 
-    density : (lo, hi) kg/m^3. com_outside : CoM outside the box by at most this fraction
-    of its diagonal; com_slip: the CoM x1e-3 edit needs the written one this many diagonals
-    outside. ratio : tensor trace within this factor of the solid's either way.
-    band : the error bar: the relative Frobenius difference from the solid's tensor an
-    edit may have. edited_density : (lo, hi) kg/m^3: an edit that changes the mass must
-    give a density a robot part has (narrower than ``density``, what any material has: a
-    correction must make the value fit the body, not only land inside a window).
+    Attributes
+    ----------
+    density : (float, float)
+        The plausible densities (lo, hi), kg/m^3.
+    com_outside : float
+        The CoM may lie outside the geometry's box by at most this fraction of its diagonal.
+    ratio : float
+        The tensor's trace is within this factor of the solid's, either way.
+    band : float
+        The error bar: the relative Frobenius difference from the solid's tensor an edit may
+        have.
+    com_slip : float
+        A CoM is taken as written in millimetres (the x1e-3 edit) only when it lies farther
+        than this many box diagonals outside the geometry (nearer, it is a modelling error,
+        not a unit).
+    edited_density : (float, float)
+        An edit that changes the mass must give a density a robot part has (lo, hi),
+        kg/m^3: narrower than `density`, what any material has, since a correction must
+        make the value fit the body, not only land inside a window.
     """
 
     density: tuple[float, float] = (50.0, 25000.0)
     com_outside: float = 0.25
     ratio: float = 100.0
     band: float = 0.8
-    #: a CoM is taken as written in millimetres only when it lies farther than this many
-    #: box diagonals outside the geometry (nearer, it is a modelling error, not a unit)
     com_slip: float = 10.0
     edited_density: tuple[float, float] = (100.0, 10000.0)
 
@@ -154,10 +185,20 @@ class Limits:
 class Edit:
     """One candidate edit of the written values.
 
-    slip : its class (a key of :data:`PRIOR_COST`). name : short ("izz x1e-3").
-    words : what the author likely did ("izz looks 1000x too large").
-    written : the values after the edit. changed : which of "mass", "com", "tensor"
-    the edit changes. tensor : the edited tensor in the link frame (None: ``written``'s).
+    Attributes
+    ----------
+    slip : str
+        Its class (a key of `PRIOR_COST`).
+    name : str
+        Short: "izz x1e-3".
+    words : str
+        What the author likely did: "izz looks 1000x too large".
+    written : Written
+        The values after the edit.
+    changed : frozenset of str
+        Which of "mass", "com", "tensor" the edit changes.
+    link_tensor : (3, 3) float or None
+        The edited tensor in the link frame (None: `written`'s).
     """
 
     slip: str
@@ -168,26 +209,40 @@ class Edit:
     link_tensor: np.ndarray | None = field(default=None)
 
     def tensor(self) -> np.ndarray:
+        """The edited (3, 3) tensor in the link frame, kg m^2."""
         return self.link_tensor if self.link_tensor is not None else self.written.tensor()
 
 
 @dataclass(frozen=True, eq=False)
 class Scored:
-    """An edit with its score (lower is likelier), feasibility and tensor error."""
+    """An edit with its score, feasibility and tensor error.
+
+    Attributes
+    ----------
+    edit : Edit
+        The candidate.
+    score : float
+        Lower is likelier.
+    feasible : bool
+        The edited values are valid and pass `check`'s limits.
+    tensor_error : float
+        The relative Frobenius difference from the solid's tensor at the edited mass.
+    why_not : str
+        Why it is not feasible (empty when it is).
+    """
 
     edit: Edit
     score: float
     feasible: bool
-    #: relative Frobenius difference from the solid's tensor at the edited mass
     tensor_error: float
-    #: why it is not feasible ("" when it is)
     why_not: str = ""
+    """Why it is not feasible ("" when it is)"""
 
 
 @dataclass(frozen=True, eq=False)
 class Proposal:
     """The edit proposed and the runner-up: the next feasible edit, else the next-best
-    infeasible one (None: no other edit). ``margin``: how much more the next feasible
+    infeasible one (None: no other edit). `margin`: how much more the next feasible
     edit scores (inf: none is feasible)."""
 
     best: Scored
@@ -204,8 +259,21 @@ def _entries(t: np.ndarray) -> np.ndarray:
 
 
 def decimal_shift(x: np.ndarray | float, k: int) -> np.ndarray:
-    """``x`` x 10^k as the decimal shift of its shortest text (1.05 x 1e-3 is 0.00105, not
-    0.0010500000000000002): a slip undone gives back the number the author typed."""
+    """`x` x 10^k as the decimal shift of its shortest text (1.05 x 1e-3 is 0.00105, not
+    0.0010500000000000002): a slip undone gives back the number the author typed.
+
+    Parameters
+    ----------
+    x : float or array of float
+        The written values.
+    k : int
+        The power of ten.
+
+    Returns
+    -------
+    array of float
+        `x` shifted, element by element.
+    """
     values = np.atleast_1d(np.asarray(x, dtype=np.float64))
     return np.array([float(Decimal(repr(float(v))).scaleb(k)) if np.isfinite(v) else v
                      for v in values])
@@ -216,12 +284,23 @@ def _times(k: int) -> str:
 
 
 def no_edit(w: Written) -> Edit:
-    """The written values as they are: the baseline every edit is ranked against."""
+    """The written values as they are: the baseline every edit is ranked against.
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+
+    Returns
+    -------
+    Edit
+        The edit that changes nothing.
+    """
     return Edit("none", "no edit", "as written", w, frozenset())
 
 
 def candidate_edits(w: Written) -> list[Edit]:
-    """Every one-slip edit of ``w`` (no edit first), duplicates of an earlier one dropped.
+    """Every one-slip edit of `w` (no edit first), duplicates of an earlier one dropped.
 
     Each single entry x10^k (k in -9..9), the mass x10^+-3, the tensor x10^+-3, +-6, +-9,
     mass and tensor x1e-3 together (an inertial in grams; not x1e3: a link 1000x too light
@@ -229,6 +308,16 @@ def candidate_edits(w: Written) -> list[Edit]:
     one), the entries read in another order (diagonal first, a swap of two products), the
     parallel-axis term removed (a tensor about the link origin), the CoM x10^+-3, and the
     origin's rpy ignored or inverted.
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+
+    Returns
+    -------
+    list of Edit
+        The candidates, the unchanged values first.
     """
     out = [no_edit(w)]
 
@@ -310,7 +399,22 @@ def _distinct(edits: list[Edit]) -> list[Edit]:
 
 
 def score_edit(edit: Edit, solid: Solid, limits: Limits) -> Scored:
-    """The edit's score against ``solid`` (module doc) and whether it is feasible."""
+    """The edit's score against `solid` (module doc) and whether it is feasible.
+
+    Parameters
+    ----------
+    edit : Edit
+        A candidate.
+    solid : Solid
+        The homogeneous solid of the link's geometry.
+    limits : Limits
+        What `check` accepts.
+
+    Returns
+    -------
+    Scored
+        The score (lower is likelier), feasibility, tensor error and why not.
+    """
     w = edit.written
     tensor = edit.tensor()
     prior = PRIOR_COST[edit.slip]
@@ -362,7 +466,18 @@ def placeholder_shaped(w: Written) -> bool:
     """Three equal diagonal entries: a placeholder someone typed (0.001 three times, 1e-8 on
     a 0.1 g camera, "5 5 5" with a product added), not a CAD value with a slip in it; no
     edit of it is what the author meant. (A CAD sphere or cube has them too: its slips are
-    missed.)"""
+    missed.)
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+
+    Returns
+    -------
+    bool
+        Whether its three diagonal entries are equal.
+    """
     e = w.entries
     return bool(e[0] == e[3] == e[5])
 
@@ -377,13 +492,29 @@ def _ceiling(mass: float, com: np.ndarray, solid: Solid) -> float:
 
 
 def _outside(xyz: np.ndarray, solid: Solid) -> float:
-    """How far ``xyz`` lies outside the geometry's box (0 inside), m."""
+    """How far `xyz` lies outside the geometry's box (0 inside), m."""
     lo, hi = np.asarray(solid.lo), np.asarray(solid.hi)
     return float(np.linalg.norm(np.maximum(np.maximum(lo - xyz, xyz - hi), 0.0)))
 
 
 def rank_edits(w: Written, solid: Solid, limits: Limits | None = None) -> list[Scored]:
-    """Every candidate edit (:func:`candidate_edits`) scored, best (lowest) first."""
+    """Every candidate edit ([`candidate_edits`][urdfinertia.inertia.slips.candidate_edits])
+    scored, best (lowest) first.
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+    solid : Solid
+        The homogeneous solid of the link's geometry.
+    limits : Limits, optional
+        What `check` accepts (default: `Limits()`).
+
+    Returns
+    -------
+    list of Scored
+        Best first.
+    """
     limits = limits or Limits()
     far = _outside(w.xyz, solid) > limits.com_slip * solid.diagonal
     scored = [score_edit(e, solid, limits) for e in candidate_edits(w)]
@@ -394,7 +525,22 @@ def rank_edits(w: Written, solid: Solid, limits: Limits | None = None) -> list[S
 
 
 def propose(w: Written, solid: Solid, limits: Limits | None = None) -> Proposal | None:
-    """The edit that undoes the slip, when one is clearly it (module doc), else None."""
+    """The edit that undoes the slip, when one is clearly it (module doc).
+
+    Parameters
+    ----------
+    w : Written
+        The inertial as written.
+    solid : Solid
+        The homogeneous solid of the link's geometry.
+    limits : Limits, optional
+        What `check` accepts (default: `Limits()`).
+
+    Returns
+    -------
+    Proposal or None
+        The edit and why, or None when no edit clearly beats every other.
+    """
     if placeholder_shaped(w):
         return None
     ranked = rank_edits(w, solid, limits)
@@ -412,6 +558,23 @@ def propose(w: Written, solid: Solid, limits: Limits | None = None) -> Proposal 
 
 
 def written(mass: float, xyz: ArrayLike, rpy: ArrayLike, entries: ArrayLike) -> Written:
-    """A :class:`Written` from plain values."""
+    """A [`Written`][urdfinertia.inertia.slips.Written] from plain values.
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    xyz : (3,) float
+        The CoM, m.
+    rpy : (3,) float
+        The inertial origin's angles, rad.
+    entries : (6,) float
+        `ixx ixy ixz iyy iyz izz`, kg m^2.
+
+    Returns
+    -------
+    Written
+        The values, checked for shape.
+    """
     return Written(mass, np.asarray(xyz, dtype=np.float64), np.asarray(rpy, dtype=np.float64),
                    np.asarray(entries, dtype=np.float64))

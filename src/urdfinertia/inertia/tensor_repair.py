@@ -1,11 +1,11 @@
 """The smallest correction that makes an inertia tensor valid for a simulator.
 
-Pure numpy. What "valid" means is :mod:`urdfinertia.inertia.validity`'s rule. The repair
-keeps the principal axes and never lowers a principal moment: a smallest moment that is not
-positive is raised to ``MIN_MOMENT_RTOL`` times the largest, then, if ``A + B < C``, the
-smallest moment is lifted to ``C - B`` (plus ``REPAIR_MARGIN`` of C so the written decimal
-text still passes after round-off). The two largest moments, which carry most of the
-dynamics, stay as the CAD system wrote them.
+Pure numpy. What "valid" means is [`urdfinertia.inertia.validity`][urdfinertia.inertia.validity]'s
+rule. The repair keeps the principal axes and never lowers a principal moment: a smallest moment
+that is not positive is raised to `MIN_MOMENT_RTOL` times the largest, then, if `A + B < C`, the
+smallest moment is lifted to `C - B` (plus `REPAIR_MARGIN` of C so the written decimal text still
+passes after round-off). The two largest moments, which carry most of the dynamics, stay as the CAD
+system wrote them.
 """
 
 from __future__ import annotations
@@ -17,19 +17,24 @@ from numpy.typing import ArrayLike
 
 from urdfinertia.inertia.validity import TRIANGLE_RTOL, as_tensor, diagnose_tensor
 
-#: Smallest principal moment written by a repair, as a fraction of the largest.
 MIN_MOMENT_RTOL = 1e-6
-#: A repaired tensor meets ``A + B >= C (1 + REPAIR_MARGIN)``.
+"""Smallest principal moment written by a repair, as a fraction of the largest."""
 REPAIR_MARGIN = 1e-9
+"""A repaired tensor meets `A + B >= C (1 + REPAIR_MARGIN)`."""
 
 
 @dataclass(frozen=True, eq=False)
 class TensorRepair:
     """A repaired tensor and what changed.
 
-    tensor : (3, 3) float, same axes as the input.
-    moments_before, moments_after : (3,) float, principal moments along the same axes.
-    changes : human-readable steps, empty when the input was already valid.
+    Attributes
+    ----------
+    tensor : (3, 3) float
+        The repaired tensor, along the same axes as the input, kg m^2.
+    moments_before, moments_after : (3,) float
+        The principal moments along the same axes, kg m^2.
+    changes : tuple of str
+        The steps taken, in words; empty when the input was already valid.
     """
 
     tensor: np.ndarray
@@ -39,20 +44,32 @@ class TensorRepair:
 
     @property
     def changed(self) -> bool:
+        """Whether the tensor had to be repaired."""
         return bool(self.changes)
 
 
 def repair_tensor(inertia: ArrayLike) -> TensorRepair:
-    """The smallest lift of principal moments that makes ``inertia`` valid (module doc).
+    """The smallest lift of principal moments that makes `inertia` valid (module doc).
 
     The input is first replaced by its symmetric part (the nearest symmetric matrix in the
     Frobenius norm). Axes are kept; no moment decreases.
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        The tensor as written, kg m^2.
+
+    Returns
+    -------
+    TensorRepair
+        The repaired tensor, the principal moments before and after, and the steps taken
+        (none when the input was valid).
 
     Raises
     ------
     ValueError
         When the tensor is not finite or has no positive principal moment: there is
-        nothing to keep, so the geometry (``urdf-inertia fix``) must supply a tensor.
+        nothing to keep, so the geometry (`urdf-inertia fix`) must supply a tensor.
     """
     t = as_tensor(inertia)
     d = diagnose_tensor(t)

@@ -1,16 +1,16 @@
 """The one definition of a physically valid inertia tensor, with every tolerance it uses.
 
 Pure numpy. A rigid body's central inertia is symmetric, positive definite, and its
-principal moments ``A <= B <= C`` meet the triangle inequality ``A + B >= C`` (each moment
-is ``integral(r_perp^2 dm)``, and ``A + B - C = 2 integral(z^2 dm) >= 0`` along C's axis).
+principal moments `A <= B <= C` meet the triangle inequality `A + B >= C` (each moment
+is `integral(r_perp^2 dm)`, and `A + B - C = 2 integral(z^2 dm) >= 0` along C's axis).
 MuJoCo refuses a body breaking either, with no tolerance (measured with mujoco 3: a
 violation of 1e-12 relative is already refused), so the triangle test here allows round-off
-only: ``diag(1, 1, 2 + 2e-9)`` is invalid everywhere (``MassProperties.is_physical``,
-``check``, ``fix --repair-only``, the report), because a simulator refuses it.
+only: `diag(1, 1, 2 + 2e-9)` is invalid everywhere (`MassProperties.is_physical`,
+`check`, `fix --repair-only`, the report), because a simulator refuses it.
 
 Two weaker notions live here too, so that no other module defines a tolerance:
-:data:`SYMMETRY_RTOL` (an asymmetry larger than this is not round-off) and
-:data:`SEMIDEFINITE_RTOL`, the slack of :class:`~urdfinertia.inertia.massprops.MassProperties`'
+`SYMMETRY_RTOL` (an asymmetry larger than this is not round-off) and
+`SEMIDEFINITE_RTOL`, the slack of [`MassProperties`][urdfinertia.inertia.massprops.MassProperties]'
 construction check, which admits the semi-definite tensors of intermediate bodies (a point
 mass, a flat plate, a cavity) that are not themselves simulated.
 """
@@ -22,19 +22,38 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-#: A triangle-inequality excess ``(C - A - B) / C`` above this is a violation. Round-off of
-#: an eigen-decomposition is ~1e-16; MuJoCo refuses anything above zero.
 TRIANGLE_RTOL = 1e-12
-#: An entry asymmetry ``max|I - I^T| / max|I|`` above this is "not symmetric" (also the
-#: construction check of ``MassProperties``).
+"""A triangle-inequality excess `(C - A - B) / C` above this is a violation. Round-off of an
+eigen-decomposition is ~1e-16; MuJoCo refuses anything above zero.
+"""
 SYMMETRY_RTOL = 1e-9
-#: Slack of the semi-definiteness test at construction, as a fraction of the trace.
+"""An entry asymmetry `max|I - I^T| / max|I|` above this is "not symmetric" (also the construction
+check of `MassProperties`).
+"""
 SEMIDEFINITE_RTOL = 1e-9
-#: Placeholder magnitudes: a diagonal of all ones or of tiny equal values, no products.
+"""Slack of the semi-definiteness test at construction, as a fraction of the trace."""
 PLACEHOLDER_TINY = 1e-6
+"""Placeholder magnitudes: a diagonal of all ones or of tiny equal values, no products."""
 
 
 def as_tensor(inertia: ArrayLike) -> np.ndarray:
+    """`inertia` as a float (3, 3) array.
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        An inertia tensor.
+
+    Returns
+    -------
+    (3, 3) float
+        The same values, as float64.
+
+    Raises
+    ------
+    ValueError
+        When the shape is not (3, 3).
+    """
     t = np.asarray(inertia, dtype=np.float64)
     if t.shape != (3, 3):
         raise ValueError(f"inertia must have shape (3, 3), got {t.shape}")
@@ -50,13 +69,13 @@ class TensorDiagnosis:
     finite : bool
         Every entry is finite. When False the other fields are NaN.
     asymmetry : float
-        ``max|I - I^T| / max|I|`` (0 for a URDF tensor, which is symmetric by construction).
+        `max|I - I^T| / max|I|` (0 for a URDF tensor, which is symmetric by construction).
     moments : (3,) float
         Principal moments of the symmetric part, ascending, kg m^2.
     axes : (3, 3) float
-        Principal axes as columns, matching ``moments``.
+        Principal axes as columns, matching `moments`.
     triangle_excess : float
-        ``(C - A - B) / C``; positive means the triangle inequality is broken by that
+        `(C - A - B) / C`; positive means the triangle inequality is broken by that
         fraction of the largest moment.
     """
 
@@ -68,27 +87,48 @@ class TensorDiagnosis:
 
     @property
     def symmetric(self) -> bool:
+        """Finite and symmetric up to `SYMMETRY_RTOL`."""
         return self.finite and self.asymmetry <= SYMMETRY_RTOL
 
     @property
     def zero(self) -> bool:
+        """Finite and every principal moment exactly zero."""
         return self.finite and bool(np.all(self.moments == 0))
 
     @property
     def positive_definite(self) -> bool:
+        """Finite and the smallest principal moment positive."""
         return self.finite and bool(self.moments[0] > 0)
 
     @property
     def triangle_ok(self) -> bool:
+        """Finite and `A + B >= C` up to `TRIANGLE_RTOL`."""
         return self.finite and not self.triangle_excess > TRIANGLE_RTOL
 
     @property
     def valid(self) -> bool:
+        """Symmetric, positive definite and `A + B >= C`: a body has it."""
         return self.symmetric and self.positive_definite and self.triangle_ok
 
 
 def diagnose_tensor(inertia: ArrayLike) -> TensorDiagnosis:
-    """Principal moments, symmetry and triangle-inequality margin of ``inertia``."""
+    """The principal moments, symmetry and triangle-inequality margin of `inertia`.
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        An inertia tensor, kg m^2.
+
+    Returns
+    -------
+    TensorDiagnosis
+        What is wrong with it, if anything (`.valid` says whether anything is).
+
+    Raises
+    ------
+    ValueError
+        When the shape is not (3, 3).
+    """
     t = as_tensor(inertia)
     if not np.all(np.isfinite(t)):
         nan3 = np.full(3, np.nan)
@@ -102,12 +142,22 @@ def diagnose_tensor(inertia: ArrayLike) -> TensorDiagnosis:
 
 
 def is_placeholder(inertia: ArrayLike) -> bool:
-    """True for the literal placeholders ``diag(1, 1, 1)`` and ``diag(e, e, e)`` with ``e`` a
+    """True for the literal placeholders `diag(1, 1, 1)` and `diag(e, e, e)` with `e` a
     power of ten <= 1e-6, no products.
 
     Exporters and hand-written URDFs use these when no value is known; they are almost never
     a body's real inertia. Equal tiny moments that are not a round power of ten are left
     alone: a small sphere has them (allegro's finger tips: 9.68e-07 = 2/5 m r^2).
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        An inertia tensor as written, kg m^2.
+
+    Returns
+    -------
+    bool
+        Whether it is one of those literal placeholders.
     """
     t = as_tensor(inertia)
     if not np.all(np.isfinite(t)):
@@ -125,5 +175,17 @@ def is_placeholder(inertia: ArrayLike) -> bool:
 
 
 def is_valid_tensor(inertia: ArrayLike) -> bool:
-    """Symmetric, positive definite and ``A + B >= C`` up to round-off (module doc)."""
+    """Whether a body can have `inertia`: symmetric, positive definite and `A + B >= C`,
+    up to round-off (the tolerances above).
+
+    Parameters
+    ----------
+    inertia : (3, 3) array_like
+        An inertia tensor, kg m^2.
+
+    Returns
+    -------
+    bool
+        True when it is valid.
+    """
     return diagnose_tensor(inertia).valid

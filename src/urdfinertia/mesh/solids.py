@@ -1,13 +1,13 @@
 """From a mesh file's triangles to solid bodies with exact volume integrals.
 
 Each solid carries its volume integrals about the mesh frame's origin at unit density, so a
-``<mesh scale>`` (including mirroring, det < 0) is applied afterwards exactly:
-volume scales by ``|det S|``, the first moment by ``|det S| S`` and the second by
-``|det S| S (.) S^T``. Every result names the method that produced it.
+`<mesh scale>` (including mirroring, det < 0) is applied afterwards exactly:
+volume scales by `|det S|`, the first moment by `|det S| S` and the second by
+`|det S| S (.) S^T`. Every result names the method that produced it.
 
-Two stages, timed and cached separately: :func:`urdfinertia.mesh.repair.pipeline.repair_mesh` turns
+Two stages, timed and cached separately: `urdfinertia.mesh.repair.pipeline.repair_mesh` turns
 the triangles into closed bodies (welding, orientation, hole caps, cavities, unions) and
-:func:`integrate_repaired` integrates them. Both results are plain arrays, floats and
+`integrate_repaired` integrates them. Both results are plain arrays, floats and
 strings, so they pickle.
 """
 
@@ -35,18 +35,18 @@ class Solid:
     volume : float
         m^3, positive.
     first : (3,) float
-        ``integral(x dV)``.
+        `integral(x dV)`.
     second : (3, 3) float
-        ``integral(x x^T dV)``.
+        `integral(x x^T dV)`.
     method : str
-        How the solid was obtained, e.g. ``"exact (closed mesh)"``.
+        How the solid was obtained, e.g. `"exact (closed mesh)"`.
     error_estimate : float or None
         Estimated relative error of the volume where the method has one (0 for exact).
     notes : tuple of str
         What was repaired on this body.
     provenance : str
         How the surface was closed: "closed as given", "welded" or "stitched", then
-        any holes capped and their estimate (see ``RepairedBody.provenance``).
+        any holes capped and their estimate (see `RepairedBody.provenance`).
     """
 
     volume: float
@@ -58,7 +58,7 @@ class Solid:
     provenance: str = ""
 
     def scaled(self, scale: ArrayLike) -> Solid:
-        """The solid under ``<mesh scale="sx sy sz">``; mirroring keeps volume positive."""
+        """The solid under `<mesh scale="sx sy sz">`; mirroring keeps volume positive."""
         s = np.asarray(scale, dtype=np.float64)
         det = abs(float(np.prod(s)))
         return Solid(
@@ -72,6 +72,18 @@ class Solid:
         )
 
     def mass_properties(self, density: float) -> MassProperties:
+        """The solid's mass properties at `density`.
+
+        Parameters
+        ----------
+        density : float
+            kg/m^3.
+
+        Returns
+        -------
+        MassProperties
+            In the mesh's frame.
+        """
         return mass_properties_from_integrals(self.volume, self.first, self.second, density)
 
 
@@ -83,18 +95,30 @@ class MeshSolids:
     notes: tuple[str, ...] = ()
 
     def scaled(self, scale: ArrayLike) -> MeshSolids:
+        """Every solid scaled by `scale` (a `<mesh scale>`).
+
+        Parameters
+        ----------
+        scale : (3,) float
+            The scale along x, y, z.
+
+        Returns
+        -------
+        MeshSolids
+            The scaled solids, the same notes.
+        """
         return MeshSolids(tuple(s.scaled(scale) for s in self.solids), self.notes)
 
 
-#: Bodies with an invalid tensor smaller than this fraction of a mesh's volume are dropped.
 SLIVER_FRACTION = 0.01
+"""Bodies with an invalid tensor smaller than this fraction of a mesh's volume are dropped."""
 
 
 def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
     """Exact volume integrals of each repaired body (cavities subtract).
 
     A body whose net volume is not positive (a sliver left by a boolean union, a shell
-    cancelled by its cavity) is dropped with a note; none left is a :class:`MeshError`.
+    cancelled by its cavity) is dropped with a note; none left is a `MeshError`.
     """
     candidates = []
     for body in repaired.bodies:
@@ -131,5 +155,5 @@ def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
 
 
 def mesh_solids(mesh: TriangleMesh) -> MeshSolids:
-    """Repair a mesh into closed bodies and integrate each one (see :mod:`repair`)."""
+    """Repair a mesh into closed bodies and integrate each one (see `repair`)."""
     return integrate_repaired(repair_mesh(mesh))

@@ -20,6 +20,9 @@ from urdfinertia.rules import Rule
 
 SARIF_SCHEMA = ("https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/"
                 "sarif-schema-2.1.0.json")
+#: The documentation site (mkdocs.yml's ``site_url``): each rule's ``helpUri`` is its section
+#: of the rules page there, ``{DOCS_URL}rules/#ui111``.
+DOCS_URL = "https://OWNER.github.io/urdfinertia/"
 #: our severities -> SARIF levels
 LEVELS = {"error": "error", "warning": "warning", "info": "note"}
 
@@ -40,12 +43,19 @@ def artifact_uri(path: Path) -> str:
     return Path(shown).as_uri() if Path(shown).is_absolute() else shown
 
 
+def help_uri(rule: Rule) -> str:
+    """The rules page's section of ``rule`` (``{DOCS_URL}rules/#ui111``)."""
+    return f"{DOCS_URL}rules/#{rule.anchor}"
+
+
 def _rule_json(rule: Rule) -> dict:
-    return {"id": rule.id, "name": rule.value,
-            "shortDescription": {"text": rule.summary},
-            "fullDescription": {"text": rule.meaning},
-            "defaultConfiguration": {"level": LEVELS[rule.severity]},
-            "properties": {"scope": rule.scope.value, "fix": rule.fix.value}}
+    descriptor = {"id": rule.id, "name": rule.value,
+                  "shortDescription": {"text": rule.summary},
+                  "fullDescription": {"text": rule.meaning},
+                  "helpUri": help_uri(rule),
+                  "defaultConfiguration": {"level": LEVELS[rule.severity]},
+                  "properties": {"scope": rule.scope.value, "fix": rule.fix.value}}
+    return descriptor
 
 
 def sarif_document(files: list[CheckedFile], *, with_baseline: bool = False,

@@ -1,8 +1,8 @@
 """MJCF (MuJoCo): reading bodies, geoms and inertials into the robot model; byte-splicing of
-``<inertial>`` elements back into the document.
+`<inertial>` elements back into the document.
 
-Registers the ``mjcf`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` (root
-element ``<mujoco>``) when imported (the registry imports it on first use).
+Registers the `mjcf` `DescriptionFormat` (root
+element `<mujoco>`) when imported (the registry imports it on first use).
 """
 
 from __future__ import annotations

@@ -1,13 +1,13 @@
-"""An MJCF model as MuJoCo's compiler sees it: includes, ``<compiler>``, defaults, meshes.
+"""An MJCF model as MuJoCo's compiler sees it: includes, `<compiler>`, defaults, meshes.
 
-MuJoCo reads ``<include file>`` by pasting the included ``<mujoco>``'s children in place of
-the element; :meth:`MjcfDocument.children` does the same lazily, so every element still
+MuJoCo reads `<include file>` by pasting the included `<mujoco>`'s children in place of
+the element; `MjcfDocument.children` does the same lazily, so every element still
 knows the file (and line) it came from. Each included file is read through the same
-hardened path as the main one (:func:`~urdfinertia.descriptions.xml.parse_document`: size
+hardened path as the main one (`parse_document`: size
 limit, no entities, no external DTDs), with a bound on their number and nesting and no
 cycles. Default classes are resolved as MuJoCo resolves them: a nested ``<default
 class>`` starts from a copy of its parent's attributes; an element takes the class it
-names, else the ``childclass`` of the nearest enclosing body or frame, else ``main``.
+names, else the `childclass` of the nearest enclosing body or frame, else `main`.
 """
 
 from __future__ import annotations
@@ -23,13 +23,13 @@ from urdfinertia.descriptions.xml import parse_document
 from urdfinertia.errors import UrdfError
 
 ROOTS = ("mujoco",)
-#: Roots of included files: MuJoCo takes only the root's children, whatever its name, and
-#: older models name it ``mujocoinclude``.
 INCLUDE_ROOTS = ("mujoco", "mujocoinclude")
-#: Included files read for one model at most, and how deep includes may nest.
+"""Roots of included files: MuJoCo takes only the root's children, whatever its name, and older
+models name it `mujocoinclude`.
+"""
 MAX_INCLUDES = 256
+"""Included files read for one model at most, and how deep includes may nest."""
 MAX_INCLUDE_DEPTH = 16
-#: MuJoCo's compiler defaults for what matters here (MJCF reference, ``compiler``).
 COMPILER_DEFAULTS = {
     "angle": "degree",
     "eulerseq": "xyz",
@@ -38,6 +38,7 @@ COMPILER_DEFAULTS = {
     "meshdir": "",
     "assetdir": "",
 }
+"""MuJoCo's compiler defaults for what matters here (MJCF reference, `compiler`)."""
 
 
 @dataclass(eq=False)
@@ -47,8 +48,8 @@ class Source:
     path: Path
     root: etree._Element
     main: bool
-    #: 1-based position of each ``<body>`` among the file's bodies in document order
     body_ordinal: dict[etree._Element, int] = field(default_factory=dict)
+    """1-based position of each `<body>` among the file's bodies in document order."""
 
     def __post_init__(self) -> None:
         for i, el in enumerate(self.root.iter("body"), 1):
@@ -57,7 +58,7 @@ class Source:
 
 @dataclass(frozen=True)
 class MeshAsset:
-    """A ``<mesh>`` of ``<asset>``, its attributes resolved with its default class."""
+    """A `<mesh>` of `<asset>`, its attributes resolved with its default class."""
 
     name: str
     attrs: dict[str, str]
@@ -94,7 +95,7 @@ class MjcfDocument:
     # -- includes ------------------------------------------------------------------------
 
     def children(self, el: etree._Element, src: Source) -> Iterator[tuple[etree._Element, Source]]:
-        """``el``'s child elements with their files, ``<include>`` replaced by its content."""
+        """`el`'s child elements with their files, `<include>` replaced by its content."""
         for child in el:
             if not isinstance(child.tag, str):
                 continue  # comments, processing instructions
@@ -158,7 +159,7 @@ class MjcfDocument:
 
     def class_attrs(self, tag: str, cls: str, el: etree._Element, src: Source,
                     ) -> dict[str, str]:
-        """``el``'s attributes over those its default class gives elements ``tag``."""
+        """`el`'s attributes over those its default class gives elements `tag`."""
         found = self.defaults.get(cls)
         if found is None:
             raise UrdfError(f"unknown default class '{cls}'", file=src.path, line=el.sourceline)
@@ -181,10 +182,12 @@ class MjcfDocument:
 
     @property
     def degrees(self) -> bool:
+        """`<compiler angle>`: angles in degrees (MuJoCo's default) rather than radians."""
         return self.compiler.get("angle", "degree").strip() != "radian"
 
     @property
     def eulerseq(self) -> str:
+        """`<compiler eulerseq>`: the axes of `euler` rotations (default "xyz")."""
         return self.compiler.get("eulerseq", "xyz").strip()
 
     @property
@@ -194,9 +197,22 @@ class MjcfDocument:
 
     @property
     def inertia_from_geom(self) -> str:
+        """`<compiler inertiafromgeom>`: "auto" (default), "true" or "false"."""
         return self.compiler.get("inertiafromgeom", "auto").strip()
 
     def inertia_group_range(self) -> tuple[int, int]:
+        """`<compiler inertiagrouprange>`: the geom groups that count for inertia.
+
+        Returns
+        -------
+        (int, int)
+            The first and last group (default 0 and 5).
+
+        Raises
+        ------
+        UrdfError
+            When the attribute is not two integers.
+        """
         parts = self.compiler.get("inertiagrouprange", "0 5").split()
         try:
             lo, hi = (int(p) for p in parts)

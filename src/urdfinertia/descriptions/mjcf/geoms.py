@@ -1,13 +1,13 @@
 """MJCF frames and geoms in the model's terms: poses, full-size shapes, mesh assets.
 
-MuJoCo's sizes are halves: ``box`` half extents, ``cylinder``/``capsule`` radius and half
-length of the cylindrical part, ``ellipsoid`` semi-axes, ``sphere`` radius. ``fromto``
-places a capsule or cylinder between two points (radius ``size[0]``), and a box or
-ellipsoid with x and y half sizes both ``size[0]`` (what MuJoCo's compiler does; tested).
+MuJoCo's sizes are halves: `box` half extents, `cylinder`/`capsule` radius and half
+length of the cylindrical part, `ellipsoid` semi-axes, `sphere` radius. `fromto`
+places a capsule or cylinder between two points (radius `size[0]`), and a box or
+ellipsoid with x and y half sizes both `size[0]` (what MuJoCo's compiler does; tested).
 A mesh geom integrates the asset's file as it lies in the geom frame after the asset's
-``scale``, ``refpos`` and ``refquat`` (vertex' = conj(refquat) (scale * vertex - refpos)):
+`scale`, `refpos` and `refquat` (vertex' = conj(refquat) (scale * vertex - refpos)):
 MuJoCo re-centres meshes for its own use but moves the geom frame to match, so the body
-sees the same solid (tested against MuJoCo's ``inertia="exact"``).
+sees the same solid (tested against MuJoCo's `inertia="exact"`).
 """
 
 from __future__ import annotations
@@ -46,8 +46,8 @@ if TYPE_CHECKING:
     from urdfinertia.descriptions.mjcf.document import MjcfDocument
 
 _ORIENTATIONS = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
-#: Geom types with no volume: MuJoCo gives them no inertia either.
 _NO_VOLUME = ("plane", "hfield")
+"""Geom types with no volume: MuJoCo gives them no inertia either."""
 
 
 def rotation(attrs: dict[str, str], own: dict[str, str] | etree._Attrib, doc: MjcfDocument,
@@ -81,7 +81,7 @@ def rotation(attrs: dict[str, str], own: dict[str, str] | etree._Attrib, doc: Mj
 
 def pose_attrs(attrs: dict[str, str], own: dict[str, str] | etree._Attrib, doc: MjcfDocument,
                finite: bool = True) -> np.ndarray:
-    """(4, 4) pose of ``pos`` and orientation in the parent frame."""
+    """(4, 4) pose of `pos` and orientation in the parent frame."""
     pose = np.eye(4)
     pose[:3, :3] = rotation(attrs, own, doc, finite)
     pose[:3, 3] = numbers(attrs.get("pos", "0 0 0"), 3, "pos", finite=finite)
@@ -98,7 +98,7 @@ def _size(attrs: dict[str, str], count: int, kind: str) -> tuple[float, ...]:
 
 
 def _primitive(kind: str, attrs: dict[str, str]) -> tuple[Shape, np.ndarray | None]:
-    """The full-size shape and, with ``fromto``, its pose in the geom's parent frame."""
+    """The full-size shape and, with `fromto`, its pose in the geom's parent frame."""
     pose = None
     if "fromto" in attrs and kind in ("capsule", "cylinder", "box", "ellipsoid"):
         try:
@@ -179,7 +179,7 @@ def _mesh(attrs: dict[str, str], doc: MjcfDocument) -> tuple[Shape, np.ndarray, 
 
 def geom_ref(el: etree._Element, attrs: dict[str, str], doc: MjcfDocument, frame: np.ndarray,
              ) -> tuple[GeometryRef, int, str | None] | None:
-    """A geom as a :class:`GeometryRef` (index 0), its ``group`` and a note; None when it
+    """A geom as a `GeometryRef` (index 0), its `group` and a note; None when it
     has no volume (plane, height field)."""
     kind = attrs.get("type", "sphere")
     if kind in _NO_VOLUME:

@@ -1,22 +1,22 @@
 """An MJCF joint's motion for whole-robot statics: axis, range and the effort that drives it.
 
-* ``axis`` (default ``0 0 1``) is in the body frame (turned by any ``<frame>`` the joint
-  stands in), the model's joint frame; ``pos`` is where the axis passes.
-* ``range`` counts only when the joint is limited: ``limited="true"``, or ``"auto"`` (the
-  default, with ``<compiler autolimits>`` true, MuJoCo's default) when a range is given;
-  a hinge's range is in the compiler's angle unit (degrees unless ``angle="radian"``).
-* The effort is the sum over the actuators on the joint (``joint=`` transmission) of
-  ``|gear| x`` their largest force, clamped by the joint's ``actuatorfrcrange`` when that
-  is limited (same rule, with ``actuatorfrclimited``), which alone is the effort of a
-  joint no actuator names. An actuator's largest force: ``motor`` and ``general`` (fixed
-  gain, no bias) give ``|gain| x max|ctrlrange|`` when ctrl-limited, clamped by
-  ``max|forcerange|`` when force-limited; any other actuator (a position servo pushes as
-  hard as its error asks) only its ``forcerange``. An actuator with no bound leaves the
+* `axis` (default `0 0 1`) is in the body frame (turned by any `<frame>` the joint
+  stands in), the model's joint frame; `pos` is where the axis passes.
+* `range` counts only when the joint is limited: `limited="true"`, or `"auto"` (the
+  default, with `<compiler autolimits>` true, MuJoCo's default) when a range is given;
+  a hinge's range is in the compiler's angle unit (degrees unless `angle="radian"`).
+* The effort is the sum over the actuators on the joint (`joint=` transmission) of
+  `|gear| x` their largest force, clamped by the joint's `actuatorfrcrange` when that
+  is limited (same rule, with `actuatorfrclimited`), which alone is the effort of a
+  joint no actuator names. An actuator's largest force: `motor` and `general` (fixed
+  gain, no bias) give `|gain| x max|ctrlrange|` when ctrl-limited, clamped by
+  `max|forcerange|` when force-limited; any other actuator (a position servo pushes as
+  hard as its error asks) only its `forcerange`. An actuator with no bound leaves the
   joint with no effort (not judged), with a note.
 
 A joint whose axis misses the body's origin is read with no effort (the model turns every
 joint about its child link's origin), with a note. MuJoCo itself is the reference of the
-tests (its compiled ``jnt_axis``, ``jnt_range``, ``actuator_*``).
+tests (its compiled `jnt_axis`, `jnt_range`, `actuator_*`).
 """
 
 from __future__ import annotations
@@ -31,13 +31,13 @@ from urdfinertia.descriptions.mjcf.numbers import GeomError, numbers
 from urdfinertia.findings import Finding
 from urdfinertia.rules import Rule
 
-#: MJCF's actuator elements (the shortcuts and ``general``)
 ACTUATOR_TAGS = ("general", "motor", "position", "velocity", "intvelocity", "damper",
                  "cylinder", "muscle", "adhesion", "plugin")
+"""MJCF's actuator elements (the shortcuts and `general`)"""
 
 
 def _limited(attrs: dict[str, str], flag: str, values: str, doc: MjcfDocument) -> bool:
-    """MuJoCo's ``limited`` rule: "true", or "auto" with the range stated (autolimits)."""
+    """MuJoCo's `limited` rule: "true", or "auto" with the range stated (autolimits)."""
     value = attrs.get(flag, "auto").strip().lower()
     if value == "auto":
         auto = doc.compiler.get("autolimits", "true").strip().lower() == "true"
@@ -52,10 +52,10 @@ def _largest(attrs: dict[str, str], key: str) -> float:
 
 def joint_motion(attrs: dict[str, str], kind: str, frame: np.ndarray, doc: MjcfDocument,
                  ) -> tuple[dict[str, object], np.ndarray]:
-    """Keyword arguments of :class:`~urdfinertia.descriptions.model.Joint` (``axis``,
-    ``lower``, ``upper``, and ``effort`` from ``actuatorfrcrange``) of a hinge or slide
-    with class-resolved ``attrs`` standing in ``frame`` of its body; and the point its axis
-    passes through, in the body frame. Raises :class:`GeomError` on an unreadable value."""
+    """Keyword arguments of `Joint` (`axis`,
+    `lower`, `upper`, and `effort` from `actuatorfrcrange`) of a hinge or slide
+    with class-resolved `attrs` standing in `frame` of its body; and the point its axis
+    passes through, in the body frame. Raises `GeomError` on an unreadable value."""
     out: dict[str, object] = {}
     axis = np.asarray(numbers(attrs.get("axis", "0 0 1"), 3, "axis"))
     if not np.linalg.norm(axis) > 0:

@@ -19,9 +19,9 @@ class GeomError(ValueError):
 
 def numbers(text: str, n: int, attr: str, *, finite: bool = True, at_least: int | None = None,
             ) -> tuple[float, ...]:
-    """The numbers of ``attr="text"``: exactly ``n``, or ``at_least``..``n`` of them.
+    """The numbers of `attr="text"`: exactly `n`, or `at_least`..`n` of them.
 
-    ``finite=False`` lets ``nan``/``inf`` through (the linter reports them).
+    `finite=False` lets `nan`/`inf` through (the linter reports them).
     """
     shown = text if len(text) <= 60 else text[:57] + "..."
     parts = text.split()

@@ -1,10 +1,10 @@
 """MJCF's frame conventions as rotation matrices (pure numpy).
 
-MuJoCo lets a frame's orientation be written five ways (``quat``, ``axisangle``, ``euler``,
-``xyaxes``, ``zaxis``; MJCF reference, "Frame orientations") and places capsules,
-cylinders, boxes and ellipsoids with ``fromto``. Each is converted here the way MuJoCo's
+MuJoCo lets a frame's orientation be written five ways (`quat`, `axisangle`, `euler`,
+`xyaxes`, `zaxis`; MJCF reference, "Frame orientations") and places capsules,
+cylinders, boxes and ellipsoids with `fromto`. Each is converted here the way MuJoCo's
 compiler converts it, so that a frame read from MJCF is the frame MuJoCo builds; the
-tests compare with the compiled ``geom_quat``/``body_quat`` of hand-made models.
+tests compare with the compiled `geom_quat`/`body_quat` of hand-made models.
 """
 
 from __future__ import annotations
@@ -13,12 +13,12 @@ import math
 
 import numpy as np
 
-#: Below this norm a direction is taken as zero (MuJoCo's mjMINVAL).
 _MINVAL = 1e-15
+"""Below this norm a direction is taken as zero (MuJoCo's mjMINVAL)."""
 
 
 def quat_matrix(quat: tuple[float, ...]) -> np.ndarray:
-    """(3, 3) rotation of a quaternion ``w x y z`` (normalised first, as MuJoCo does)."""
+    """(3, 3) rotation of a quaternion `w x y z` (normalised first, as MuJoCo does)."""
     q = np.asarray(quat, dtype=np.float64)
     norm = float(np.linalg.norm(q))
     if norm < _MINVAL:
@@ -48,7 +48,7 @@ def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def axisangle_matrix(axis: tuple[float, ...], angle: float) -> np.ndarray:
-    """Rotation by ``angle`` rad about ``axis`` (normalised)."""
+    """Rotation by `angle` rad about `axis` (normalised)."""
     a = np.asarray(axis, dtype=np.float64)
     norm = float(np.linalg.norm(a))
     if norm < _MINVAL:
@@ -57,7 +57,7 @@ def axisangle_matrix(axis: tuple[float, ...], angle: float) -> np.ndarray:
 
 
 def euler_matrix(angles: tuple[float, ...], seq: str) -> np.ndarray:
-    """Rotation of Euler ``angles`` (rad) in MuJoCo's ``eulerseq``.
+    """Rotation of Euler `angles` (rad) in MuJoCo's `eulerseq`.
 
     Lower-case axes rotate with the frame (intrinsic: the new rotation multiplies on the
     right), upper-case axes stay fixed (extrinsic: on the left), as MuJoCo's compiler
@@ -91,7 +91,7 @@ def xyaxes_matrix(values: tuple[float, ...]) -> np.ndarray:
 
 
 def zaxis_matrix(direction: tuple[float, ...] | np.ndarray) -> np.ndarray:
-    """The smallest rotation taking (0, 0, 1) to ``direction`` (MuJoCo's quatZ2Vec)."""
+    """The smallest rotation taking (0, 0, 1) to `direction` (MuJoCo's quatZ2Vec)."""
     v = np.asarray(direction, dtype=np.float64)
     norm = float(np.linalg.norm(v))
     if norm < _MINVAL:
@@ -106,7 +106,7 @@ def zaxis_matrix(direction: tuple[float, ...] | np.ndarray) -> np.ndarray:
 
 
 def fromto_frame(fromto: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, float]:
-    """Centre, rotation and half length of a ``fromto`` segment (z along the segment)."""
+    """Centre, rotation and half length of a `fromto` segment (z along the segment)."""
     a = np.asarray(fromto[:3], dtype=np.float64)
     b = np.asarray(fromto[3:], dtype=np.float64)
     d = b - a
@@ -117,7 +117,7 @@ def fromto_frame(fromto: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, flo
 
 
 def matrix_rpy(r: np.ndarray) -> tuple[float, float, float]:
-    """URDF ``(roll, pitch, yaw)`` of a rotation matrix (inverse of ``rpy_matrix``)."""
+    """URDF `(roll, pitch, yaw)` of a rotation matrix (inverse of `rpy_matrix`)."""
     r = np.asarray(r, dtype=np.float64)
     pitch = math.atan2(-float(r[2, 0]), math.hypot(float(r[0, 0]), float(r[1, 0])))
     if math.hypot(float(r[0, 0]), float(r[1, 0])) < 1e-12:  # gimbal lock: roll absorbs yaw

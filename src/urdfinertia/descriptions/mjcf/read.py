@@ -1,19 +1,19 @@
-"""Read an MJCF model into the robot model: one link per ``<body>``, in MuJoCo's conventions.
+"""Read an MJCF model into the robot model: one link per `<body>`, in MuJoCo's conventions.
 
-* Bodies become links, named by their ``name`` or, unnamed, ``body#K`` (the K-th
-  ``<body>`` of the file in document order; ``FILE:body#K`` in an included file), which
+* Bodies become links, named by their `name` or, unnamed, `body#K` (the K-th
+  `<body>` of the file in document order; `FILE:body#K` in an included file), which
   the writer finds again the same way. The world body is not a link.
 * Joints come from nesting: a body with no joint element is welded to its parent (type
-  "fixed"), ``<freejoint>`` is "floating", hinge "revolute", slide "prismatic". A hinge
-  or slide brings its axis, limits and effort (:mod:`~urdfinertia.descriptions.mjcf.joints`);
+  "fixed"), `<freejoint>` is "floating", hinge "revolute", slide "prismatic". A hinge
+  or slide brings its axis, limits and effort (`joints`);
   of a body with several joints, the first (a note says so).
 * Geoms in MuJoCo's half sizes become the model's full-size shapes
-  (:mod:`~urdfinertia.descriptions.mjcf.geoms`). Colliding geoms (``contype`` or
-  ``conaffinity`` non-zero) are the link's collisions, the others its visuals, and the
-  geoms MuJoCo itself counts for inertia (``group`` within ``inertiagrouprange``, not
-  stated massless) are :attr:`Link.inertia_geometry`: what ``--geometry auto`` uses.
-* ``<inertial>`` becomes the model's inertial: ``pos`` and orientation as the origin,
-  ``diaginertia`` or ``fullinertia`` (whose off-diagonals are the tensor's own entries,
+  (`geoms`). Colliding geoms (`contype` or
+  `conaffinity` non-zero) are the link's collisions, the others its visuals, and the
+  geoms MuJoCo itself counts for inertia (`group` within `inertiagrouprange`, not
+  stated massless) are `Link.inertia_geometry`: what `--geometry auto` uses.
+* `<inertial>` becomes the model's inertial: `pos` and orientation as the origin,
+  `diaginertia` or `fullinertia` (whose off-diagonals are the tensor's own entries,
   as URDF's) along it.
 
 A problem that belongs to one geom drops that geom with a note on its link; one that
@@ -50,14 +50,14 @@ from urdfinertia.findings import Finding
 from urdfinertia.rules import Rule
 
 _JOINT_TYPES = {"hinge": "revolute", "slide": "prismatic", "ball": "ball", "free": "floating"}
-#: an axis line this far (m) from the body's origin is off it
 _OFF_AXIS = 1e-9
-#: MuJoCo's geom density when none is stated, kg/m^3.
+"""An axis line this far (m) from the body's origin is off it."""
 MUJOCO_DENSITY = 1000.0
+"""MuJoCo's geom density when none is stated, kg/m^3."""
 
 
 def body_name(el: etree._Element, src: Source) -> str:
-    """A body's link name: its own, or ``body#K`` by document order (see module doc)."""
+    """A body's link name: its own, or `body#K` by document order (see module doc)."""
     name = el.get("name")
     if name:
         return name
@@ -77,8 +77,8 @@ class _Body:
     counted: list[GeometryRef] = field(default_factory=list)
     joints: list[str] = field(default_factory=list)
     joint_names: list[str] = field(default_factory=list)
-    #: the first joint element: its type, name, class-resolved attributes, frame in the body
     first_joint: tuple[str, str | None, dict[str, str], np.ndarray, int | None] | None = None
+    """The first joint element: its type, name, class-resolved attributes, frame in the body."""
     inertial: Inertial | None = None
     notes: list[Finding] = field(default_factory=list)
 
@@ -114,7 +114,7 @@ class _Reader:
 
     def _walk(self, el: etree._Element, src: Source, body: _Body | None, frame: np.ndarray,
               childclass: str) -> None:
-        """Children of a body (or the world, ``body`` None) or of a frame inside one."""
+        """Children of a body (or the world, `body` None) or of a frame inside one."""
         for child, csrc in self.doc.children(el, src):
             tag = child.tag
             if tag == "body":
@@ -216,11 +216,11 @@ class _Reader:
                     f"defined in included file {body.src.path.name}, which is not written")
 
     def _materials(self, body: _Body, refs: list[GeometryRef]) -> list[GeometryRef]:
-        """Geom materials of a body that has an ``<inertial>`` become weights.
+        """Geom materials of a body that has an `<inertial>` become weights.
 
         MuJoCo ignores geom densities and masses when a body has an explicit inertial;
         a kept mass is then shared among the geoms in the proportions they state (geoms
-        stating nothing weigh as MuJoCo's default density). ``--mass density`` uses the
+        stating nothing weigh as MuJoCo's default density). `--mass density` uses the
         stated values as they are.
         """
         has_mass = body.inertial is not None and body.inertial.mass > 0
@@ -252,7 +252,7 @@ class _Reader:
 
     def _motion(self, body: _Body, first: tuple[str, str | None, dict[str, str], np.ndarray,
                                                   int | None], name: str) -> dict[str, object]:
-        """Axis, limits and effort of a body's first joint (see :mod:`.joints`)."""
+        """Axis, limits and effort of a body's first joint (see `.joints`)."""
         kind, own, attrs, frame, line = first
         try:
             motion, point = joint_motion(attrs, kind, frame, self.doc)

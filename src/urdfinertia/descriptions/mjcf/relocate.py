@@ -1,25 +1,25 @@
 """Keep an MJCF model's files found when its main file is written to another folder.
 
 MuJoCo resolves every relative path of a model against the main file's folder: an
-``<include file>``; ``<compiler meshdir>``, ``texturedir`` and ``assetdir``; and, through
-them, each asset's ``file`` (``mesh``, ``hfield`` and ``skin`` under ``meshdir``,
-``texture`` under ``texturedir``; ``assetdir`` stands for whichever of the two is not
+`<include file>`; `<compiler meshdir>`, `texturedir` and `assetdir`; and, through
+them, each asset's `file` (`mesh`, `hfield` and `skin` under `meshdir`,
+`texture` under `texturedir`; `assetdir` stands for whichever of the two is not
 set). Only the main file is written elsewhere, so only its bytes change, and as few as
 possible:
 
-- a relative ``meshdir``, ``texturedir`` or ``assetdir`` of the main file's ``<compiler>``
-  is rewritten to name the same folder from the output's folder; the assets' own ``file``
+- a relative `meshdir`, `texturedir` or `assetdir` of the main file's `<compiler>`
+  is rewritten to name the same folder from the output's folder; the assets' own `file`
   values then stay as written;
 - a kind of asset that has relative files but no folder set (they were relative to the
-  model's folder) gets one: an attribute added to the main file's last ``<compiler>``, or a
-  new ``<compiler>`` element first in ``<mujoco>``;
-- a folder set by a ``<compiler>`` of an included file (which cannot be edited) is
-  overridden by a ``<compiler>`` added last in the main file (the last one read wins);
-- each relative ``<include file>`` of the main file is rewritten. Includes nested in
+  model's folder) gets one: an attribute added to the main file's last `<compiler>`, or a
+  new `<compiler>` element first in `<mujoco>`;
+- a folder set by a `<compiler>` of an included file (which cannot be edited) is
+  overridden by a `<compiler>` added last in the main file (the last one read wins);
+- each relative `<include file>` of the main file is rewritten. Includes nested in
   included files are left: MuJoCo also looks for them next to the file that includes them.
 
 A path that has no relative form from the output's folder (another drive) is written
-absolute (:func:`~urdfinertia.descriptions.references.relocated`).
+absolute (`relocated`).
 """
 
 from __future__ import annotations
@@ -38,14 +38,14 @@ from urdfinertia.descriptions.splice import attribute_text, line_indent, next_ta
 from urdfinertia.errors import UrdfInertiaError
 
 DIR_ATTRS = ("meshdir", "texturedir", "assetdir")
-#: Asset elements whose files are found under ``meshdir`` (else ``assetdir``).
 MESH_KIND = (b"mesh", b"hfield", b"skin")
-#: A texture's file attributes (a cube map may give one file per face).
+"""Asset elements whose files are found under `meshdir` (else `assetdir`)."""
 TEXTURE_FILES = ("file", "fileright", "fileleft", "fileup", "filedown", "filefront",
                  "fileback")
+"""A texture's file attributes (a cube map may give one file per face)."""
 _ATTR = re.compile(rb"""([^\s=]+)\s*=\s*(?:"([^"]*)"|'([^']*)')""")
-#: The included files read to learn what an included model needs (as the reader's bound).
 MAX_INCLUDES = 256
+"""The included files read to learn what an included model needs (as the reader's bound)."""
 
 
 @dataclass
@@ -60,15 +60,15 @@ class _Value:
 class _Scan:
     """What the model sets and needs, in the order MuJoCo reads it."""
 
-    #: directory attribute -> its last value (the one MuJoCo uses)
     dirs: dict[str, _Value] = field(default_factory=dict)
-    #: every compiler directory attribute of the main file
+    """Directory attribute -> its last value (the one MuJoCo uses)"""
     main_dirs: list[_Value] = field(default_factory=list)
+    """Every compiler directory attribute of the main file."""
     includes: list[_Value] = field(default_factory=list)
     needs_mesh_dir: bool = False
     needs_texture_dir: bool = False
-    #: end of the main file's last <compiler> start tag's attributes, and its closing bytes
     last_compiler: tuple[int, int] | None = None
+    """End of the main file's last <compiler> start tag's attributes, and its closing bytes."""
     root_start_end: int | None = None
     root_end_start: int | None = None
     first_child_indent: bytes | None = None
@@ -170,8 +170,8 @@ def _escaped(text: str) -> bytes:
 
 def relocate_mjcf_refs(data: bytes, source_dir: Path, output_dir: Path,
                        ) -> tuple[bytes, int]:
-    """``data`` (an MJCF main file of ``source_dir``) made to find its files when written
-    in ``output_dir`` (see the module doc); and how many references were rewritten or
+    """`data` (an MJCF main file of `source_dir`) made to find its files when written
+    in `output_dir` (see the module doc); and how many references were rewritten or
     added."""
     if same_folder(source_dir, output_dir):
         return data, 0

@@ -1,17 +1,17 @@
-"""Write new ``<inertial>`` elements into an MJCF document, leaving every other byte alone.
+"""Write new `<inertial>` elements into an MJCF document, leaving every other byte alone.
 
-The same splicing as for URDF (:mod:`urdfinertia.descriptions.urdf.write`): a scanner finds
-each ``<body>`` start tag and the span of its own ``<inertial>`` child, and only those
-spans change (or one ``<inertial>`` is inserted as the body's first child, indented like
+The same splicing as for URDF (`urdfinertia.descriptions.urdf.write`): a scanner finds
+each `<body>` start tag and the span of its own `<inertial>` child, and only those
+spans change (or one `<inertial>` is inserted as the body's first child, indented like
 its siblings; MuJoCo does not care where among a body's children it stands). Unnamed
-bodies are found by their position among the file's ``<body>`` tags (``body#K``, as the
+bodies are found by their position among the file's `<body>` tags (`body#K`, as the
 reader names them).
 
-What is written, one line: ``<inertial pos="CoM" mass=".." diaginertia=".."/>`` when the
-tensor along the body's axes is diagonal, else ``fullinertia="ixx iyy izz ixy ixz iyz"``:
+What is written, one line: `<inertial pos="CoM" mass=".." diaginertia=".."/>` when the
+tensor along the body's axes is diagonal, else `fullinertia="ixx iyy izz ixy ixz iyz"`:
 the tensor about the CoM along the body frame's axes, products of inertia as the tensor's
-own entries (MuJoCo's order and sign). No ``quat``: the values are the tool's own numbers,
-read back exactly, so ``fix`` on its own output changes nothing.
+own entries (MuJoCo's order and sign). No `quat`: the values are the tool's own numbers,
+read back exactly, so `fix` on its own output changes nothing.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ from urdfinertia.inertia.massprops import MassProperties
 
 @dataclass(frozen=True)
 class BodySpan:
-    """Byte offsets of one ``<body>`` of the document."""
+    """Byte offsets of one `<body>` of the document."""
 
     name: str
     start_tag_end: int
@@ -49,7 +49,7 @@ class BodySpan:
 
 
 def scan_bodies(data: bytes) -> dict[str, BodySpan]:
-    """Every ``<body>`` of the document (at any depth) with its own ``<inertial>`` span."""
+    """Every `<body>` of the document (at any depth) with its own `<inertial>` span."""
     spans: dict[str, BodySpan] = {}
     stack: list[tuple[bytes, dict | None]] = []
     ordinal = 0
@@ -110,7 +110,7 @@ def _finish(spans: dict[str, BodySpan], body: dict) -> None:
 
 
 def inertial_text(props: MassProperties, size: float) -> bytes:
-    """The one-line ``<inertial .../>`` of ``props`` (see the module doc)."""
+    """The one-line `<inertial .../>` of `props` (see the module doc)."""
     com, i = clean(props, size)
     f = format_float
     pos = f"{f(com[0])} {f(com[1])} {f(com[2])}"
@@ -118,15 +118,15 @@ def inertial_text(props: MassProperties, size: float) -> bytes:
     return f'<inertial pos="{pos}" mass="{f(props.mass)}" {key}="{value}"/>'.encode()
 
 
-#: Attributes that orient the inertia frame (one at most is allowed).
 ORIENTATION_ATTRS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
+"""Attributes that orient the inertia frame (one at most is allowed)."""
 
 
 def kept_value_edits(data: bytes, start: int, entry: NewInertial) -> list[Edit]:
-    """Edits of the ``<inertial>`` start tag at ``start`` that write only derived values.
+    """Edits of the `<inertial>` start tag at `start` that write only derived values.
 
-    Kept values keep their bytes: a derived mass changes ``mass``, a derived CoM ``pos``,
-    a derived tensor ``diaginertia`` or ``fullinertia`` (the old one's place; the other
+    Kept values keep their bytes: a derived mass changes `mass`, a derived CoM `pos`,
+    a derived tensor `diaginertia` or `fullinertia` (the old one's place; the other
     is dropped) and drops the frame's orientation (the new tensor is along the body's
     axes).
     """
@@ -167,12 +167,12 @@ def _tensor_attribute(i) -> tuple[str, str]:  # noqa: ANN001 - a (3, 3) array
 
 
 def patch_inertials(data: bytes, new: NewInertials) -> bytes:
-    """Replace (or add) the ``<inertial>`` of each body named in ``new``.
+    """Replace (or add) the `<inertial>` of each body named in `new`.
 
-    When some values were kept (:class:`~urdfinertia.descriptions.formats.NewInertial`)
-    and the body has an ``<inertial>``, only the derived attributes change
-    (:func:`kept_value_edits`). A name not found in ``data`` belongs to a body of an
-    included file when the document has ``<include>`` elements (the reader has said so
+    When some values were kept (`NewInertial`)
+    and the body has an `<inertial>`, only the derived attributes change
+    (`kept_value_edits`). A name not found in `data` belongs to a body of an
+    included file when the document has `<include>` elements (the reader has said so
     on the link): nothing is written for it. Otherwise it is an error.
     """
     spans = scan_bodies(data)

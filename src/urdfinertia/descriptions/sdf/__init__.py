@@ -1,9 +1,9 @@
 """SDFormat: models (and worlds holding models) read into the robot model; inertials spliced.
 
-Registers the ``sdf`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` (root
-element ``<sdf>``; suffixes ``.sdf`` and ``.world``) when imported. :mod:`.poses` parses
-poses and resolves ``relative_to`` frames, :mod:`.read` reads links, geometry and
-inertials, :mod:`.write` splices new inertials into the document's own bytes.
+Registers the `sdf` `DescriptionFormat` (root
+element `<sdf>`; suffixes `.sdf` and `.world`) when imported. `.poses` parses
+poses and resolves `relative_to` frames, `.read` reads links, geometry and
+inertials, `.write` splices new inertials into the document's own bytes.
 """
 
 from __future__ import annotations

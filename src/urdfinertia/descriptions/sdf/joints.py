@@ -1,17 +1,17 @@
 """An SDFormat joint's motion for whole-robot statics: axis, limits, effort and mimic.
 
 The model wants the axis in the joint frame as URDF has it, which is the child link frame
-(:class:`~urdfinertia.descriptions.model.Joint`). SDFormat writes ``<axis><xyz>`` (default
-``0 0 1``) in the joint frame (the joint's ``<pose>``, relative to its child link by
-default), or in the frame its ``expressed_in`` attribute names (1.7+); up to 1.6,
-``<use_parent_model_frame>true`` puts it in the model frame, and up to 1.4 it always was
-(libsdformat's 1.4 -> 1.5 conversion adds ``use_parent_model_frame`` true). The axis is
+(`Joint`). SDFormat writes `<axis><xyz>` (default
+`0 0 1`) in the joint frame (the joint's `<pose>`, relative to its child link by
+default), or in the frame its `expressed_in` attribute names (1.7+); up to 1.6,
+`<use_parent_model_frame>true` puts it in the model frame, and up to 1.4 it always was
+(libsdformat's 1.4 -> 1.5 conversion adds `use_parent_model_frame` true). The axis is
 turned into the child link frame here.
 
-``<limit>``: ``lower``/``upper`` (rad or m; SDFormat's defaults +-1e16 mean no limit) and
-``effort`` (N m or N; SDFormat's default -1, like any negative value, means no limit: the
+`<limit>`: `lower`/`upper` (rad or m; SDFormat's defaults +-1e16 mean no limit) and
+`effort` (N m or N; SDFormat's default -1, like any negative value, means no limit: the
 joint is read as having no effort, so statics computes its load without judging it).
-``<axis><mimic joint>`` (1.11) with ``<multiplier>`` and ``<offset>``.
+`<axis><mimic joint>` (1.11) with `<multiplier>` and `<offset>`.
 
 A joint frame whose axis line misses the child link's origin (Drake's cart-pole pins its
 pole 0.5 m from the pole's frame) cannot be said in the model, which turns every joint about
@@ -37,10 +37,10 @@ def _unread(el: etree._Element, name: str, message: str) -> Finding:
     """What statics cannot read of joint ``name``'s motion (it judges the joint without)."""
     return Finding(Rule.JOINT_UNREADABLE, None, message, el.sourceline, f"joint '{name}'")
 
-#: SDFormat's default limits (+-1e16) and anything beyond: no limit
 _UNLIMITED = 1e16
-#: an axis line this far (m) from the child link's origin is off it
+"""SDFormat's default limits (+-1e16) and anything beyond: no limit."""
 _OFF_AXIS = 1e-9
+"""An axis line this far (m) from the child link's origin is off it."""
 
 
 def _child(el: etree._Element | None, tag: str) -> etree._Element | None:
@@ -77,9 +77,9 @@ def _axis_frame(axis: etree._Element | None, xyz: etree._Element | None,
 
 def joint_motion(el: etree._Element, scope: Scope, child: str, name: str,
                  version: tuple[int, ...], notes: list[Finding]) -> dict[str, object]:
-    """Keyword arguments of :class:`~urdfinertia.descriptions.model.Joint` for ``axis``,
-    ``lower``, ``upper``, ``effort`` and ``mimic`` of joint ``el`` of model ``scope``
-    (``child``: its child link's name in that scope; ``name``: as the robot names it)."""
+    """Keyword arguments of [`Joint`][urdfinertia.descriptions.model.Joint] for `axis`,
+    `lower`, `upper`, `effort` and `mimic` of joint `el` of model `scope`
+    (`child`: its child link's name in that scope; `name`: as the robot names it)."""
     out: dict[str, object] = {}
     axis_el = _child(el, "axis")
     xyz = _child(axis_el, "xyz")

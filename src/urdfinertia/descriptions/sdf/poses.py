@@ -1,15 +1,15 @@
-"""SDFormat poses and frames: ``<pose>`` text, and ``relative_to`` resolved as libsdformat does.
+"""SDFormat poses and frames: `<pose>` text, and `relative_to` resolved as libsdformat does.
 
-A ``<pose>`` is ``x y z roll pitch yaw`` (radians, or degrees with ``degrees="true"``), the
-rotation ``Rz(yaw) Ry(pitch) Rx(roll)`` as in URDF, or ``x y z qx qy qz qw`` with
-``rotation_format="quat_xyzw"`` (SDFormat 1.9+). Pose frame semantics (SDFormat 1.7+,
-http://sdformat.org/tutorials?tut=pose_frame_semantics): inside one ``<model>`` every link,
-joint, ``<frame>`` and nested model is a frame; a pose is relative to the frame named by
-its ``relative_to`` attribute, else to a default: the model frame for links, nested models
-and frames without ``attached_to``; a frame's ``attached_to``; a joint's child link; the
-parent link for collisions, visuals and the inertial. ``a::b`` names frame ``b`` of nested
-model ``a``. SDFormat 1.5/1.6 wrote the attribute ``frame``; libsdformat's 1.6 -> 1.7
-conversion renames it to ``relative_to``, and so is it read here.
+A `<pose>` is `x y z roll pitch yaw` (radians, or degrees with `degrees="true"`), the
+rotation `Rz(yaw) Ry(pitch) Rx(roll)` as in URDF, or `x y z qx qy qz qw` with
+`rotation_format="quat_xyzw"` (SDFormat 1.9+). Pose frame semantics (SDFormat 1.7+,
+http://sdformat.org/tutorials?tut=pose_frame_semantics): inside one `<model>` every link,
+joint, `<frame>` and nested model is a frame; a pose is relative to the frame named by
+its `relative_to` attribute, else to a default: the model frame for links, nested models
+and frames without `attached_to`; a frame's `attached_to`; a joint's child link; the
+parent link for collisions, visuals and the inertial. `a::b` names frame `b` of nested
+model `a`. SDFormat 1.5/1.6 wrote the attribute `frame`; libsdformat's 1.6 -> 1.7
+conversion renames it to `relative_to`, and so is it read here.
 """
 
 from __future__ import annotations
@@ -24,16 +24,16 @@ from lxml import etree
 from urdfinertia.errors import UrdfError
 from urdfinertia.inertia.rotation import rpy_matrix
 
-#: The implicit frame of every model (libsdformat's reserved name).
 MODEL_FRAME = "__model__"
+"""The implicit frame of every model (libsdformat's reserved name)."""
 
 
 def parse_pose(el: etree._Element | None,
                numbers: Callable[[etree._Element, str], tuple[float, ...]],
                ) -> tuple[np.ndarray, str | None]:
-    """(4, 4) transform of a ``<pose>`` element and its ``relative_to`` (None: default).
+    """(4, 4) transform of a `<pose>` element and its `relative_to` (None: default).
 
-    ``numbers(el, text)`` turns the element's text into floats (the reader's checks).
+    `numbers(el, text)` turns the element's text into floats (the reader's checks).
     """
     if el is None:
         return np.eye(4), None
@@ -62,7 +62,7 @@ def parse_pose(el: etree._Element | None,
 
 
 def quat_xyzw_matrix(q: tuple[float, ...]) -> np.ndarray:
-    """Rotation of a quaternion ``(x, y, z, w)``, normalised as libsdformat does."""
+    """Rotation of a quaternion `(x, y, z, w)`, normalised as libsdformat does."""
     x, y, z, w = q
     n = math.sqrt(x * x + y * y + z * z + w * w)
     if not n > 0:
@@ -76,7 +76,7 @@ def quat_xyzw_matrix(q: tuple[float, ...]) -> np.ndarray:
 
 
 def matrix_rpy(r: np.ndarray) -> tuple[float, float, float]:
-    """``(roll, pitch, yaw)`` of a rotation matrix: the inverse of ``rpy_matrix``."""
+    """`(roll, pitch, yaw)` of a rotation matrix: the inverse of `rpy_matrix`."""
     cp = math.hypot(float(r[0, 0]), float(r[1, 0]))
     pitch = math.atan2(-float(r[2, 0]), cp)
     if cp < 1e-12:  # gimbal lock: roll takes the whole turn about the common axis
@@ -87,7 +87,7 @@ def matrix_rpy(r: np.ndarray) -> tuple[float, float, float]:
 
 @dataclass
 class FrameDef:
-    """One frame of a model scope: its pose relative to ``relative_to``."""
+    """One frame of a model scope: its pose relative to `relative_to`."""
 
     pose: np.ndarray
     relative_to: str
@@ -96,10 +96,16 @@ class FrameDef:
 
 @dataclass
 class Scope:
-    """The frames of one ``<model>``, expressed in its model frame on demand.
+    """The frames of one `<model>`, expressed in its model frame on demand.
 
-    frames : name -> definition (links, joints, ``<frame>``s, nested models).
-    nested : nested model name -> its own scope (frames of ``name::x``).
+    Attributes
+    ----------
+    name : str
+        The model's name.
+    frames : dict of str to FrameDef
+        Name -> definition (links, joints, `<frame>`s, nested models).
+    nested : dict of str to Scope
+        A nested model's name -> its own scope (the frames `name::x`).
     """
 
     name: str
@@ -108,13 +114,31 @@ class Scope:
     _resolved: dict[str, np.ndarray] = field(default_factory=dict)
 
     def add(self, name: str, pose: np.ndarray, relative_to: str, line: int | None) -> None:
+        """Define frame `name` at `pose` relative to frame `relative_to`.
+
+        Parameters
+        ----------
+        name : str
+            The new frame's name.
+        pose : (4, 4) float
+            Its pose in `relative_to`.
+        relative_to : str
+            The frame the pose is given in.
+        line : int or None
+            Where it is defined, for errors.
+
+        Raises
+        ------
+        UrdfError
+            When the name is already used in the model.
+        """
         if name == MODEL_FRAME or name in self.frames:
             raise UrdfError(f"frame name '{name}' is used twice in model '{self.name}'",
                             line=line)
         self.frames[name] = FrameDef(pose, relative_to, line)
 
     def in_model(self, name: str) -> np.ndarray:
-        """(4, 4) pose of frame ``name`` (possibly ``a::b``) in this model's frame."""
+        """(4, 4) pose of frame `name` (possibly `a::b`) in this model's frame."""
         return self._resolve(name, ())
 
     def _resolve(self, name: str, visiting: tuple[str, ...]) -> np.ndarray:

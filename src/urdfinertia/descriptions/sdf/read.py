@@ -1,19 +1,19 @@
-"""Read an SDFormat document (``<sdf>``: models, or worlds holding models) into the model.
+"""Read an SDFormat document (`<sdf>`: models, or worlds holding models) into the model.
 
-Every ``<model>/<link>`` becomes a :class:`~urdfinertia.descriptions.model.Link` whose
-geometry and inertial poses are in the link frame (:mod:`.poses` resolves ``relative_to``
+Every `<model>/<link>` becomes a [`Link`][urdfinertia.descriptions.model.Link] whose
+geometry and inertial poses are in the link frame (`.poses` resolves `relative_to`
 chains). Names: with one top-level model, its links keep their names and links of nested
-models are scoped ``nested::link``; with several top-level models every name starts with
-its model's (``model::link``), as libsdformat scopes them. ``<include>``d models are not
+models are scoped `nested::link`; with several top-level models every name starts with
+its model's (`model::link`), as libsdformat scopes them. `<include>`d models are not
 followed: the robot's notes say so.
 
-Fault isolation: an element that cannot be read (unknown ``relative_to``, a bad number, a
+Fault isolation: an element that cannot be read (unknown `relative_to`, a bad number, a
 plane or heightmap, which have no volume) is dropped with a note on its link; an unreadable
-``<inertial>`` is reported and the link recomputed as if it had none. Only a document that
-is not XML, is hostile, or holds no ``<sdf>`` root stops the reading.
+`<inertial>` is reported and the link recomputed as if it had none. Only a document that
+is not XML, is hostile, or holds no `<sdf>` root stops the reading.
 
-Conventions (sdf/1.11/inertial.sdf): the inertial ``<pose>`` is the centre-of-mass frame C
-relative to the link frame; ``<inertia>`` is about Co along C's axes, with products of
+Conventions (sdf/1.11/inertial.sdf): the inertial `<pose>` is the centre-of-mass frame C
+relative to the link frame; `<inertia>` is about Co along C's axes, with products of
 inertia "-m x y (not +m x y)": URDF's convention, so values pass through unchanged.
 Omitted values take SDFormat's defaults (mass 1 kg, ixx = iyy = izz = 1 kg m^2).
 """
@@ -51,15 +51,15 @@ from urdfinertia.errors import UrdfError
 from urdfinertia.findings import Finding
 from urdfinertia.rules import Rule
 
-#: SDFormat 1.11's default density for automatic inertia, kg/m^3 (water).
 DEFAULT_DENSITY = 1000.0
+"""SDFormat 1.11's default density for automatic inertia, kg/m^3 (water)."""
 _PREFIX_USE = re.compile(rb"</?([A-Za-z_][\w.\-]*):[A-Za-z_]")
 _ROOT_TAG = re.compile(rb"<sdf\b")
-#: Geometry that has no volume (or none this tool computes): dropped with a note.
 _NO_VOLUME = {"plane": "a plane has no volume", "heightmap": "a heightmap is terrain",
               "image": "an extruded image is not supported", "polyline":
               "a polyline extrusion is not supported", "empty": "empty geometry",
               "cone": "a cone is not supported"}
+"""Geometry that has no volume (or none this tool computes): dropped with a note."""
 _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 _INERTIA_DEFAULTS = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, "izz": 1.0}
 
@@ -85,7 +85,7 @@ def _readable(data: bytes) -> bytes:
 
     An XML declaration after leading whitespace (TinyXML2 reads it) is blanked with spaces
     (it may only declare UTF-8 or ASCII: other encodings are refused below as usual), and
-    undeclared prefixes are declared (:func:`_declare_prefixes`). Line numbers are kept.
+    undeclared prefixes are declared (`_declare_prefixes`). Line numbers are kept.
     """
     late = _LATE_DECLARATION.match(data)
     if late and not re.search(rb"encoding\s*=\s*[\"'](?!utf-?8|us-ascii|ascii)",
@@ -95,10 +95,10 @@ def _readable(data: bytes) -> bytes:
 
 
 def _declare_prefixes(data: bytes) -> bytes:
-    """Declare namespace prefixes the document uses but never declares (``drake:``).
+    """Declare namespace prefixes the document uses but never declares (`drake:`).
 
     libsdformat and Drake read such documents (TinyXML has no namespaces); libxml2 refuses
-    them. Declarations are added inside the ``<sdf`` start tag, on its line, so that line
+    them. Declarations are added inside the `<sdf` start tag, on its line, so that line
     numbers stay those of the file; only the bytes given to lxml change, never the output.
     """
     used = set(_PREFIX_USE.findall(data)) - {b"xml", b"xmlns"}
@@ -113,8 +113,8 @@ def _declare_prefixes(data: bytes) -> bytes:
 @dataclass
 class _Ctx:
     path: Path
-    #: findings about the document (and, for statics, the joints' motion)
     robot_notes: list[Finding] = field(default_factory=list)
+    """Findings about the document (and, for statics, the joints' motion)."""
 
     def note(self, rule: Rule, message: str, line: int | None = None,
              link: str | None = None, element: str | None = None) -> None:
@@ -280,7 +280,7 @@ def _build_scope(model_el: etree._Element, ctx: _Ctx, name: str) -> Scope:
 
 def _in_link(scope: Scope, link_pose: np.ndarray, t: np.ndarray, rel: str | None,
              ) -> np.ndarray:
-    """Pose ``t`` (relative to ``rel``, default: the link) in the link frame."""
+    """Pose `t` (relative to `rel`, default: the link) in the link frame."""
     if rel is None:
         return t
     found: np.ndarray = np.linalg.inv(link_pose) @ scope.in_model(rel) @ t
@@ -342,7 +342,7 @@ def _inertial(el: etree._Element, scope: Scope, link_pose: np.ndarray, ctx: _Ctx
 
 
 def _uses_density(link_el: etree._Element) -> bool:
-    """Whether any collision states a ``<density>``: then densities weigh the parts."""
+    """Whether any collision states a `<density>`: then densities weigh the parts."""
     return any(_child(c, "density") is not None for c in _children(link_el, "collision"))
 
 
@@ -451,7 +451,7 @@ def _joint(el: etree._Element, frames: _ModelFrames, poses: dict[str, np.ndarray
 
 
 def _version(text: str | None) -> tuple[int, ...]:
-    """``<sdf version="1.6">`` as (1, 6); the newest rules (1.11) when unreadable."""
+    """`<sdf version="1.6">` as (1, 6); the newest rules (1.11) when unreadable."""
     try:
         return tuple(int(p) for p in (text or "").strip().split("."))
     except ValueError:
@@ -459,7 +459,26 @@ def _version(text: str | None) -> tuple[int, ...]:
 
 
 def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
-    """The robot model of an SDFormat document (inertial values exactly as written)."""
+    """The robot model of an SDFormat document (its first `<model>`, nested models included).
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : str or Path
+        Where it was read from (URIs resolve from its folder).
+
+    Returns
+    -------
+    Robot
+        The robot model: inertial values exactly as written, what was read past in
+        `robot.findings`.
+
+    Raises
+    ------
+    UrdfError
+        When the document is not SDFormat or has no model.
+    """
     path = Path(path)
     ctx = _Ctx(path)
     root = parse_document(_readable(data), path, ("sdf",), ctx.robot_notes)

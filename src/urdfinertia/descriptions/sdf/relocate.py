@@ -1,10 +1,10 @@
-"""Keep an SDFormat document's relative ``<uri>`` references working from another folder.
+"""Keep an SDFormat document's relative `<uri>` references working from another folder.
 
 libsdformat and Gazebo resolve a relative URI (a mesh's, a heightmap's, a material
-script's, an ``<include>``'s) against the document's folder, and so do the PBR texture
-maps (``<albedo_map>`` ...). When the document is written elsewhere each such text is
-rewritten to name the same file from the output's folder; ``model://``, ``package://``,
-``file://`` and other schemes, absolute paths and texts holding a reference or markup are
+script's, an `<include>`'s) against the document's folder, and so do the PBR texture
+maps (`<albedo_map>` ...). When the document is written elsewhere each such text is
+rewritten to name the same file from the output's folder; `model://`, `package://`,
+`file://` and other schemes, absolute paths and texts holding a reference or markup are
 left as they are. Only the element text changes; its surrounding whitespace stays.
 """
 
@@ -20,17 +20,17 @@ from urdfinertia.descriptions.references import (
 )
 from urdfinertia.descriptions.splice import next_tag
 
-#: Elements whose text is a path relative to the document's folder.
 PATH_ELEMENTS = frozenset({
     b"uri", b"albedo_map", b"normal_map", b"roughness_map", b"metalness_map",
     b"emissive_map", b"light_map", b"environment_map", b"ambient_occlusion_map",
 })
+"""Elements whose text is a path relative to the document's folder."""
 
 
 def relocate_sdf_refs(data: bytes, source_dir: Path, output_dir: Path,
                       ) -> tuple[bytes, int]:
-    """``data`` with its relative URIs rewritten to resolve from ``output_dir`` as they did
-    from ``source_dir``; and how many were rewritten."""
+    """`data` with its relative URIs rewritten to resolve from `output_dir` as they did
+    from `source_dir`; and how many were rewritten."""
     if same_folder(source_dir, output_dir):
         return data, 0
     edits: list[tuple[int, int, bytes]] = []

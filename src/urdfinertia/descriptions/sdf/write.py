@@ -1,14 +1,14 @@
 """Write new inertials into an SDFormat document, leaving every other byte alone.
 
-As for URDF (:mod:`urdfinertia.descriptions.urdf.write`), the output is made by splicing
+As for URDF (`urdfinertia.descriptions.urdf.write`), the output is made by splicing
 the original bytes: a scanner finds the byte spans of every element (comments, CDATA and
-declarations skipped), and inside each link's ``<inertial>`` only ``<pose>``, ``<mass>``
-and ``<inertia>`` are replaced; other children (``<density>``, ``<fluid_added_mass>``,
-comments) stay where they are. ``auto="true"`` is removed from the ``<inertial>`` start tag,
-since Gazebo ignores explicit values while it is set. The written ``<pose>`` is the centre
-of mass in the link frame with no rotation and no ``relative_to`` (the inertial pose is
+declarations skipped), and inside each link's `<inertial>` only `<pose>`, `<mass>`
+and `<inertia>` are replaced; other children (`<density>`, `<fluid_added_mass>`,
+comments) stay where they are. `auto="true"` is removed from the `<inertial>` start tag,
+since Gazebo ignores explicit values while it is set. The written `<pose>` is the centre
+of mass in the link frame with no rotation and no `relative_to` (the inertial pose is
 defined relative to the link; the tensor is written along the link's axes). A link without
-an ``<inertial>`` gets one as its first child, indented like its siblings.
+an `<inertial>` gets one as its first child, indented like its siblings.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ _REPLACED = (b"pose", b"mass", b"inertia")
 
 @dataclass(eq=False)
 class _Node:
-    """One element's byte spans: ``<tag ...>`` is [lt, start_end), the element [lt, end)."""
+    """One element's byte spans: `<tag ...>` is [lt, start_end), the element [lt, end)."""
 
     tag: bytes
     lt: int
@@ -87,7 +87,7 @@ def scan_elements(data: bytes) -> _Node:
 
 
 def link_nodes(data: bytes) -> dict[str, _Node]:
-    """Every ``<model>``'s ``<link>`` by the name :mod:`.read` gives it."""
+    """Every `<model>`'s `<link>` by the name `.read` gives it."""
     top = scan_elements(data)
     roots = [c for c in top.children if _local(c.tag) == b"sdf"]
     models: list[_Node] = []
@@ -121,7 +121,7 @@ def _step(data: bytes, outer: bytes, node: _Node) -> bytes:
 
 
 def inertial_lines(props: MassProperties, size: float, step: bytes) -> list[bytes]:
-    """``<pose>``, ``<mass>`` and ``<inertia>`` lines, relative indents included."""
+    """`<pose>`, `<mass>` and `<inertia>` lines, relative indents included."""
     com, i = clean(props, size)
     f = format_float
     s = step.decode()
@@ -189,7 +189,7 @@ def _edits_for(data: bytes, link: _Node, props: MassProperties, size: float,
 
 def _whole(props: MassProperties, size: float, indent: bytes, step: bytes,
            newline: bytes) -> bytes:
-    """A complete ``<inertial>`` element; its first line carries no indent."""
+    """A complete `<inertial>` element; its first line carries no indent."""
     lines = [b"<inertial>", *(step + line for line in inertial_lines(props, size, step)),
              b"</inertial>"]
     return (newline + indent).join(lines)
@@ -211,12 +211,12 @@ def _text_tokens(data: bytes, node: _Node) -> list[tuple[int, int]] | None:
 
 
 def kept_value_edits(data: bytes, link: _Node, entry: NewInertial) -> list[Edit] | None:
-    """Edits of the link's ``<inertial>`` that write only the derived values, the kept
-    ones' text untouched; None when the element is not plain enough (``auto``, a
-    ``relative_to`` or ``rotation_format`` pose, a missing value): it is then rewritten.
+    """Edits of the link's `<inertial>` that write only the derived values, the kept
+    ones' text untouched; None when the element is not plain enough (`auto`, a
+    `relative_to` or `rotation_format` pose, a missing value): it is then rewritten.
 
-    A derived mass changes ``<mass>``'s text, a derived CoM the first three words of
-    ``<pose>``, a derived tensor the six ``<inertia>`` values and sets a rotated pose's
+    A derived mass changes `<mass>`'s text, a derived CoM the first three words of
+    `<pose>`, a derived tensor the six `<inertia>` values and sets a rotated pose's
     angles to 0 (the new tensor is along the link's axes).
     """
     inertials = link.kids(b"inertial")
@@ -268,11 +268,11 @@ def kept_value_edits(data: bytes, link: _Node, entry: NewInertial) -> list[Edit]
 
 
 def patch_inertials(data: bytes, new: NewInertials) -> bytes:
-    """Replace (or add) the inertial of each link named in ``new`` (names as :mod:`.read`).
+    """Replace (or add) the inertial of each link named in `new` (names as `.read`).
 
-    When some values were kept (:class:`~urdfinertia.descriptions.formats.NewInertial`),
+    When some values were kept (`NewInertial`),
     only the derived ones are written into the existing element where it is plain enough
-    (:func:`kept_value_edits`).
+    (`kept_value_edits`).
     """
     links = link_nodes(data)
     newline = b"\r\n" if b"\r\n" in data else b"\n"

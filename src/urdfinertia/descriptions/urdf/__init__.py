@@ -1,6 +1,6 @@
 """URDF: reading into the robot model (once, leniently), byte-splicing of inertials.
 
-Registers the ``urdf`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` when
+Registers the `urdf` `DescriptionFormat` when
 imported (the registry imports it on first use).
 """
 

@@ -1,12 +1,12 @@
 """Keep relative mesh references working when the output lands in another folder.
 
-``fix robot.urdf -o elsewhere/robot.urdf`` copies the document; a ``<mesh
-filename="meshes/arm.stl"/>`` would then point at ``elsewhere/meshes/arm.stl``, which does
-not exist. :func:`relocate_mesh_refs` rewrites each relative reference so that it resolves
+`fix robot.urdf -o elsewhere/robot.urdf` copies the document; a
+`<mesh filename="meshes/arm.stl"/>` would then point at `elsewhere/meshes/arm.stl`, which does
+not exist. `relocate_mesh_refs` rewrites each relative reference so that it resolves
 from the output's folder to the same file, splicing only the attribute values (every other
-byte stays). ``package://``, ``file://``, ``model://``, other schemes, absolute paths and
-values holding an unexpanded ``$(...)`` or an XML reference are left as they are
-(:func:`~urdfinertia.descriptions.references.is_relative_ref`).
+byte stays). `package://`, `file://`, `model://`, other schemes, absolute paths and
+values holding an unexpanded `$(...)` or an XML reference are left as they are
+(`is_relative_ref`).
 """
 
 from __future__ import annotations
@@ -30,8 +30,8 @@ __all__ = ["is_relative_ref", "relocate_mesh_refs"]
 
 def relocate_mesh_refs(data: bytes, source_dir: Path, output_dir: Path,
                        ) -> tuple[bytes, int]:
-    """``data`` with relative mesh references rewritten to resolve from ``output_dir``
-    as they did from ``source_dir``; and how many were rewritten."""
+    """`data` with relative mesh references rewritten to resolve from `output_dir`
+    as they did from `source_dir`; and how many were rewritten."""
     if same_folder(source_dir, output_dir):
         return data, 0
     comments = [m.span() for m in _COMMENT.finditer(data)]

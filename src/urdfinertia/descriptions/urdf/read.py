@@ -1,20 +1,20 @@
-"""Read a URDF with a hardened lxml parser into :mod:`urdf_model` objects.
+"""Read a URDF with a hardened lxml parser into `urdf_model` objects.
 
 Entities are never resolved, no DTD is loaded and nothing is fetched from the network;
 documents that declare entities are refused outright (XXE, "billion laughs").
 
 One reading, lenient: the document is read once, and every value carries its own
-validity. The ``<inertial>`` is read exactly as written, values no simulator accepts
+validity. The `<inertial>` is read exactly as written, values no simulator accepts
 included (NaN, infinite, negative, absurd magnitudes; a number that cannot be read is NaN,
 with a finding), so that the judgement sees what the author wrote. One bad element never
-sinks a robot: a ``<collision>``/``<visual>`` that cannot be read (numbers that are not
+sinks a robot: a `<collision>`/`<visual>` that cannot be read (numbers that are not
 plain finite decimals, a zero or negative size, an unsupported shape, an unexpanded
-``$(...)``) is dropped from the model and a value not needed for inertials (a joint
+`$(...)`) is dropped from the model and a value not needed for inertials (a joint
 origin) is taken as its default, each recorded as a
-:class:`~urdfinertia.findings.Finding` in :attr:`Robot.findings` with its line. Lenient
-where the reading is unambiguous (commas between numbers), strict where it is not (4
+[`Finding`][urdfinertia.findings.Finding] in `Robot.findings` with its line. Lenient where the
+reading is unambiguous (commas between numbers), strict where it is not (4
 numbers where 3 are needed). Only a document that cannot be read as a whole (not XML, not
-a ``<robot>``, a nameless or duplicate link) raises :class:`UrdfError`.
+a `<robot>`, a nameless or duplicate link) raises `UrdfError`.
 """
 
 from __future__ import annotations
@@ -46,38 +46,59 @@ from urdfinertia.errors import UrdfError
 from urdfinertia.findings import Finding
 from urdfinertia.rules import Rule
 
-#: Largest magnitude of any number read (SI units: 1e9 m, kg or kg m^2 describe no robot);
-#: keeps every product the maths forms far from float64 overflow (1e308).
 MAX_MAGNITUDE = 1e9
-#: A decimal number as XML Schema writes a double, without NaN/INF (checked separately)
-#: and without what Python's ``float`` also takes (``1_0``, non-ASCII digits, spaces).
+"""Largest magnitude of any number read (SI units: 1e9 m, kg or kg m^2 describe no robot); keeps
+every product the maths forms far from float64 overflow (1e308).
+"""
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
+"""A decimal number as XML Schema writes a double, without NaN/INF (checked separately) and without
+what Python's `float` also takes (`1_0`, non-ASCII digits, spaces).
+"""
 _NUMBER_MATCH = _NUMBER.match
-#: Attribute texts already read without error, by (text, count): most are repeated ("0 0 0",
-#: "1 1 1", the same inertia in mirrored links). Bounded: cleared when full.
 _VALID_NUMBERS: dict[tuple[str, int], tuple[float, ...]] = {}
+"""Attribute texts already read without error, by (text, count): most are repeated ("0 0 0", "1 1
+1", the same inertia in mirrored links). Bounded: cleared when full.
+"""
 _MAX_VALID_NUMBERS = 1 << 16
 
 
 def parse_xml(data: bytes, file: str | Path,
               notes: list[Finding] | None = None) -> etree._Element:
-    """Parse URDF bytes into an lxml root element (:func:`xml.parse_document`)."""
+    """Parse URDF bytes into an lxml root element ([`xml.parse_document`][xml.parse_document])."""
     return parse_document(data, file, ("robot",), notes)
 
 
 def read_urdf_bytes(path: str | Path) -> bytes:
-    """The file's bytes, or a :class:`UrdfError` naming it."""
+    """The file's bytes, or a `UrdfError` naming it."""
     return read_bytes(path)
 
 
 def read_urdf(path: str | Path) -> tuple[Robot, bytes]:
-    """Read ``path`` and return the robot model and the file's original bytes."""
+    """Read `path` and return the robot model and the file's original bytes."""
     data = read_urdf_bytes(path)
     return robot_from_bytes(data, path), data
 
 
 def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
-    """The robot model of URDF bytes (the module doc says how it reads)."""
+    """The robot model of a URDF document (the module doc says how it reads).
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : str or Path
+        Where it was read from (relative mesh references resolve from its folder).
+
+    Returns
+    -------
+    Robot
+        The robot model; what was read past is in `robot.findings`.
+
+    Raises
+    ------
+    UrdfError
+        When the document cannot be read as a URDF at all.
+    """
     notes: list[Finding] = []
     root = parse_xml(data, path, notes)
     return robot_from_element(root, Path(path), notes)
@@ -85,7 +106,7 @@ def robot_from_bytes(data: bytes, path: str | Path) -> Robot:
 
 def robot_from_element(root: etree._Element, path: Path,
                        notes: list[Finding] | None = None) -> Robot:
-    """The robot of a parsed ``<robot>``; ``notes``: findings made before (parsing)."""
+    """The robot of a parsed `<robot>`; `notes`: findings made before (parsing)."""
     problems: list[Finding] = list(notes or ())
     links: list[Link] = []
     seen: set[str] = set()
@@ -104,8 +125,8 @@ def _children(el: etree._Element, tag: str) -> list[etree._Element]:
     return [c for c in el if isinstance(c.tag, str) and c.tag == tag]
 
 
-#: Numbers separated by commas (and spaces): read as urdfdom's neighbours do, with a note.
 _COMMAS = re.compile(r"\s*,\s*|\s+")
+"""Numbers separated by commas (and spaces): read as urdfdom's neighbours do, with a note."""
 
 
 class _Ctx:
@@ -247,7 +268,7 @@ def _shape(geometry: etree._Element, ctx: _Ctx) -> Shape:
 
 
 def _geometry_refs(link_el: etree._Element, role: str, ctx: _Ctx) -> tuple[GeometryRef, ...]:
-    """The link's readable elements of ``role``; each unreadable one is dropped with a
+    """The link's readable elements of `role`; each unreadable one is dropped with a
     problem (its index stays its position in the file, so labels match the document)."""
     refs = []
     for index, el in enumerate(_children(link_el, role)):

@@ -1,9 +1,9 @@
-"""Write new ``<inertial>`` elements into a URDF, leaving every other byte alone.
+"""Write new `<inertial>` elements into a URDF, leaving every other byte alone.
 
-lxml reads the document (:mod:`urdf_read`); re-serialising it would still rewrite quoting,
-``<tag />`` spacing and the XML declaration, so the output is made by splicing: a small
-scanner finds the byte span of each ``<link>``'s ``<inertial>`` in the original text and
-only those spans are replaced (or one is inserted after the ``<link>`` start tag).
+lxml reads the document (`urdf_read`); re-serialising it would still rewrite quoting,
+`<tag />` spacing and the XML declaration, so the output is made by splicing: a small
+scanner finds the byte span of each `<link>`'s `<inertial>` in the original text and
+only those spans are replaced (or one is inserted after the `<link>` start tag).
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from urdfinertia.inertia.massprops import MassProperties
 
 @dataclass(frozen=True)
 class LinkSpan:
-    """Byte offsets of one ``<link>`` in the document."""
+    """Byte offsets of one `<link>` in the document."""
 
     name: str
     start_tag_end: int  # offset just after the link's start tag '>'
@@ -43,9 +43,9 @@ class LinkSpan:
 
 
 def scan_links(data: bytes) -> dict[str, LinkSpan]:
-    """Find every ``<robot>``-level ``<link>`` and its ``<inertial>`` span.
+    """Find every `<robot>`-level `<link>` and its `<inertial>` span.
 
-    One regular-expression search per piece of markup (``TOKEN``) finds the next ``<`` and
+    One regular-expression search per piece of markup (`TOKEN`) finds the next `<` and
     what it starts; comments, CDATA, processing instructions and declarations are skipped.
     """
     spans: dict[str, LinkSpan] = {}
@@ -111,10 +111,10 @@ _SLOTS = {b"origin": 0, b"mass": 1, b"inertia": 2}
 
 
 def inertial_comments(old: bytes) -> dict[int, list[bytes]]:
-    """Comments inside an old ``<inertial>``, by the line of the new one they come before.
+    """Comments inside an old `<inertial>`, by the line of the new one they come before.
 
     A comment stays in front of the child it preceded (1 origin, 2 mass, 3 inertia) or,
-    after the last child, before ``</inertial>`` (4). Only comments are carried over: the
+    after the last child, before `</inertial>` (4). Only comments are carried over: the
     values and their formatting are what is being replaced.
     """
     out: dict[int, list[bytes]] = {}
@@ -127,9 +127,9 @@ def inertial_comments(old: bytes) -> dict[int, list[bytes]]:
 
 def inertial_xml(props: MassProperties, size: float, indent: bytes, step: bytes,
                  newline: bytes, comments: Mapping[int, list[bytes]] | None = None) -> bytes:
-    """``<inertial>`` text; the first line has no indent (it replaces one in place).
+    """`<inertial>` text; the first line has no indent (it replaces one in place).
 
-    ``comments`` (from :func:`inertial_comments`) are written, one a line, before the line
+    `comments` (from `inertial_comments`) are written, one a line, before the line
     of their slot.
     """
     com, i = clean(props, size)
@@ -160,11 +160,11 @@ def _step(data: bytes, span: LinkSpan) -> bytes:
 
 def kept_value_edits(data: bytes, span: tuple[int, int], entry: NewInertial,
                      ) -> list[Edit] | None:
-    """Edits of an existing ``<inertial>`` that write only the derived values.
+    """Edits of an existing `<inertial>` that write only the derived values.
 
-    Kept values keep their bytes: a derived mass changes ``<mass value>``, a derived CoM
-    ``<origin xyz>``, a derived tensor the six ``<inertia>`` attributes (and a rotated
-    ``<origin rpy>`` becomes "0 0 0", the new tensor being along the link's axes). None
+    Kept values keep their bytes: a derived mass changes `<mass value>`, a derived CoM
+    `<origin xyz>`, a derived tensor the six `<inertia>` attributes (and a rotated
+    `<origin rpy>` becomes "0 0 0", the new tensor being along the link's axes). None
     when an element to change is missing: the whole element is then written.
     """
     start, end = span
@@ -200,7 +200,7 @@ def kept_value_edits(data: bytes, span: tuple[int, int], entry: NewInertial,
 
 
 def _changed(data: bytes, tag: re.Match[bytes], values: dict[str, float]) -> dict[str, float]:
-    """``values`` without the attributes of ``tag`` that already hold the same number."""
+    """`values` without the attributes of `tag` that already hold the same number."""
     spans = attribute_spans(data, tag)
     out = {}
     for name, value in values.items():
@@ -221,16 +221,16 @@ def _zero(text: bytes) -> bool:
 
 
 def patch_inertials(data: bytes, new: NewInertials) -> bytes:
-    """Replace (or add) the ``<inertial>`` of each link named in ``new``.
+    """Replace (or add) the `<inertial>` of each link named in `new`.
 
     Parameters
     ----------
     data : bytes
         The original document.
-    new : mapping of link name to :class:`~urdfinertia.descriptions.formats.NewInertial`
+    new : mapping of link name to `NewInertial`
         The mass properties in the link frame, the size below which CoM components count
         as round-off, and which values were derived: when some were kept, only the
-        derived ones are written into the existing element (:func:`kept_value_edits`).
+        derived ones are written into the existing element (`kept_value_edits`).
     """
     spans = scan_links(data)
     newline = b"\r\n" if b"\r\n" in data else b"\n"

@@ -1,12 +1,12 @@
-"""OpenUSD (``.usd``, ``.usda``, ``.usdc``, ``.usdz``): rigid bodies and their MassAPI read
+"""OpenUSD (`.usd`, `.usda`, `.usdc`, `.usdz`): rigid bodies and their MassAPI read
 into the robot model; corrected mass properties written as an override layer.
 
-Registers the ``usd`` :class:`~urdfinertia.descriptions.formats.DescriptionFormat` (by
-suffix: USD files have no XML root) when imported. Reading needs OpenUSD's ``pxr``, an
-optional dependency (:mod:`.stage` says how to install it); the document bytes the
+Registers the `usd` `DescriptionFormat` (by
+suffix: USD files have no XML root) when imported. Reading needs OpenUSD's `pxr`, an
+optional dependency (`.stage` says how to install it); the document bytes the
 registry hands around are the asset's root layer for reading and, after
-:func:`~urdfinertia.descriptions.formats.read_description`, the override layer that
-``patch`` fills (:mod:`.write`).
+[`read_description`][urdfinertia.descriptions.formats.read_description], the override layer that
+`patch` fills (`.write`).
 """
 
 from __future__ import annotations

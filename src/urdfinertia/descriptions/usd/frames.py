@@ -1,9 +1,9 @@
 """Frames of a USD stage as numpy: prim transforms relative to their body, quaternions.
 
-OpenUSD's ``Gf.Matrix4d`` acts on row vectors (``p' = p M``); everything here is the
+OpenUSD's `Gf.Matrix4d` acts on row vectors (`p' = p M`); everything here is the
 transpose, acting on column vectors as the rest of the package does. Quaternions are
-``(w, x, y, z)``, the order of ``Gf.Quatf(real, i, j, k)`` and of ``physics:principalAxes``
-as written in ``.usda``.
+`(w, x, y, z)`, the order of `Gf.Quatf(real, i, j, k)` and of `physics:principalAxes`
+as written in `.usda`.
 """
 
 from __future__ import annotations
@@ -17,17 +17,18 @@ from urdfinertia.descriptions.mjcf.orientation import matrix_rpy, quat_matrix
 
 __all__ = ["matrix_quat", "matrix_rpy", "quat_matrix", "rigid_and_scale", "to_numpy", "vec3"]
 
-#: Axis tokens of ``UsdGeom`` cylinders, capsules and cones: the rotation taking the
-#: geometry frame's z (the model's axis of round shapes) onto the prim's axis.
 AXIS_ROTATION = {
     "Z": np.eye(3),
     "X": np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]),  # Ry(+90 deg)
     "Y": np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]),  # Rx(-90 deg)
 }
+"""Axis tokens of `UsdGeom` cylinders, capsules and cones: the rotation taking the geometry
+frame's z (the model's axis of round shapes) onto the prim's axis.
+"""
 
 
 def to_numpy(matrix: Any) -> np.ndarray:
-    """(4, 4) column-vector transform of a ``Gf.Matrix4d``."""
+    """(4, 4) column-vector transform of a `Gf.Matrix4d`."""
     return np.array([[matrix[i][j] for j in range(4)] for i in range(4)], dtype=np.float64).T
 
 
@@ -54,7 +55,7 @@ def rigid_and_scale(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def matrix_quat(r: np.ndarray) -> tuple[float, float, float, float]:
-    """Unit quaternion ``(w, x, y, z)`` of a rotation matrix, w >= 0 (Shepperd's method)."""
+    """Unit quaternion `(w, x, y, z)` of a rotation matrix, w >= 0 (Shepperd's method)."""
     m = np.asarray(r, dtype=np.float64)
     tr = float(np.trace(m))
     if tr > 0:
@@ -77,5 +78,5 @@ def matrix_quat(r: np.ndarray) -> tuple[float, float, float, float]:
 
 
 def vec3(v: Any) -> tuple[float, float, float]:
-    """Three floats of any sequence (a numpy row, a ``Gf.Vec3f``)."""
+    """Three floats of any sequence (a numpy row, a `Gf.Vec3f`)."""
     return float(v[0]), float(v[1]), float(v[2])

@@ -1,11 +1,11 @@
 """Collision and visual prims of a rigid body as the model's shapes, in the body frame.
 
-``UsdGeom`` Cube (``size``), Sphere (``radius``), Cylinder, Capsule and Cone (``radius``,
-``height``, ``axis``) become closed-form shapes; a Mesh becomes an OBJ file of its
+`UsdGeom` Cube (`size`), Sphere (`radius`), Cylinder, Capsule and Cone (`radius`,
+`height`, `axis`) become closed-form shapes; a Mesh becomes an OBJ file of its
 triangles (fan-triangulated polygons) in the user cache, named by its content, which the
 mesh library then reads like any mesh reference. The prim's transform relative to the
 body (its xformOps and its ancestors') gives the element's origin; its scale goes into
-the shape. Lengths are multiplied by the stage's ``metersPerUnit``.
+the shape. Lengths are multiplied by the stage's `metersPerUnit`.
 """
 
 from __future__ import annotations
@@ -30,9 +30,10 @@ from urdfinertia.descriptions.model import (
 from urdfinertia.descriptions.usd.frames import AXIS_ROTATION, matrix_rpy, rigid_and_scale, vec3
 from urdfinertia.rules import Rule
 
-#: Gprim types with a closed form or a mesh here; others (Plane, curves, points) are
-#: dropped with a problem.
 SHAPE_TYPES = ("Cube", "Sphere", "Cylinder", "Capsule", "Cone", "Mesh")
+"""Gprim types with a closed form or a mesh here; others (Plane, curves, points) are dropped with a
+problem.
+"""
 
 
 class ShapeError(ValueError):
@@ -46,7 +47,7 @@ class ShapeError(ValueError):
 def element(prim: Any, relative: np.ndarray, mpu: float) -> tuple[Origin, Shape]:
     """Origin in the body frame and shape of a geometry prim.
 
-    ``relative``: the prim's (4, 4) transform in the body frame, in stage units.
+    `relative`: the prim's (4, 4) transform in the body frame, in stage units.
     """
     kind = prim.GetTypeName()
     if kind not in SHAPE_TYPES:
@@ -110,7 +111,7 @@ def _positive(prim: Any, name: str, default: float, *, allow_zero: bool = False)
 
 
 def triangles(prim: Any) -> tuple[np.ndarray, np.ndarray]:
-    """(n, 3) points and (m, 3) triangles of a ``UsdGeom.Mesh`` (polygons as fans)."""
+    """(n, 3) points and (m, 3) triangles of a `UsdGeom.Mesh` (polygons as fans)."""
     points = np.asarray(prim.GetAttribute("points").Get() or [], dtype=np.float64)
     counts = np.asarray(prim.GetAttribute("faceVertexCounts").Get() or [], dtype=np.int64)
     indices = np.asarray(prim.GetAttribute("faceVertexIndices").Get() or [], dtype=np.int64)

@@ -1,12 +1,12 @@
-"""A body's ``PhysicsMassAPI`` (and Newton's ``NewtonMassAPI``) as the model's inertial,
+"""A body's `PhysicsMassAPI` (and Newton's `NewtonMassAPI`) as the model's inertial,
 and SimReady's rules on the authored values.
 
-UsdPhysics: ``physics:mass`` (0 = not given), ``physics:density`` (0 = not given),
-``physics:centerOfMass`` in the body's local frame (-inf = not given),
-``physics:diagonalInertia`` (0, 0, 0 = not given) along ``physics:principalAxes``, a
+UsdPhysics: `physics:mass` (0 = not given), `physics:density` (0 = not given),
+`physics:centerOfMass` in the body's local frame (-inf = not given),
+`physics:diagonalInertia` (0, 0, 0 = not given) along `physics:principalAxes`, a
 quaternion (w, x, y, z) in the body's local frame (0, 0, 0, 0 = identity). The tensor in
-the body frame is ``R diag(d) R^T`` with R the rotation of the quaternion. Newton's
-``newton:inertia`` is the full tensor ``[Ixx, Iyy, Izz, Ixy, Ixz, Iyz]`` in the body frame
+the body frame is `R diag(d) R^T` with R the rotation of the quaternion. Newton's
+`newton:inertia` is the full tensor `[Ixx, Iyy, Izz, Ixy, Ixz, Iyz]` in the body frame
 and overrides the two. Values are in stage units: kg / kilogramsPerUnit, m /
 metersPerUnit.
 """
@@ -22,11 +22,12 @@ from urdfinertia.descriptions.model import Inertial, Origin
 from urdfinertia.descriptions.usd.frames import matrix_rpy, quat_matrix, vec3
 from urdfinertia.rules import Rule
 
-#: |q| - 1 beyond which ``principalAxes`` is not a unit quaternion (float32 round-off of a
-#: normalised quaternion is ~1e-7)
 QUAT_NORM_TOL = 1e-4
-#: relative disagreement of ``newton:inertia`` with MassAPI's tensor tolerated (float32)
+"""|q| - 1 beyond which `principalAxes` is not a unit quaternion (float32 round-off of a
+normalised quaternion is ~1e-7)
+"""
 NEWTON_RTOL = 1e-5
+"""Relative disagreement of `newton:inertia` with MassAPI's tensor tolerated (float32)"""
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,22 @@ def applied(prim: Any) -> tuple[str, ...]:
 
 
 def authored(prim: Any, mpu: float, kpu: float) -> Authored:
+    """What a prim's MassAPI (and Newton's attributes) author, in SI units.
+
+    Parameters
+    ----------
+    prim : Usd.Prim
+        A rigid body or collider prim.
+    mpu : float
+        The stage's metres per unit.
+    kpu : float
+        The stage's kilograms per unit.
+
+    Returns
+    -------
+    Authored
+        The authored mass, density, CoM, diagonal inertia and principal axes.
+    """
     schemas = applied(prim)
     mass = _get(prim, "physics:mass")
     density = _get(prim, "physics:density")
@@ -107,7 +124,7 @@ def authored(prim: Any, mpu: float, kpu: float) -> Authored:
 
 
 def principal_rotation(axes: tuple[float, float, float, float] | None) -> np.ndarray:
-    """Rotation of ``principalAxes``; the zero quaternion (the default) is the identity."""
+    """Rotation of `principalAxes`; the zero quaternion (the default) is the identity."""
     if axes is None or not any(axes):
         return np.eye(3)
     return quat_matrix(axes)
@@ -115,8 +132,8 @@ def principal_rotation(axes: tuple[float, float, float, float] | None) -> np.nda
 
 def inertial(a: Authored) -> Inertial | None:
     """The model's inertial of a complete MassAPI (None when the engine computes any of
-    mass or inertia). MassAPI's diagonal and axes win over ``newton:inertia`` (every
-    UsdPhysics engine reads them; Newton's own must agree, :func:`rule_problems`)."""
+    mass or inertia). MassAPI's diagonal and axes win over `newton:inertia` (every
+    UsdPhysics engine reads them; Newton's own must agree, `rule_problems`)."""
     if not a.complete or a.mass is None:
         return None
     com = a.com if a.com is not None else np.zeros(3)

@@ -1,10 +1,10 @@
 """A composed USD stage read into the robot model.
 
-Links are the prims with ``PhysicsRigidBodyAPI`` (an articulation's links are such
+Links are the prims with `PhysicsRigidBodyAPI` (an articulation's links are such
 bodies), found through instances (instance proxies), references and payloads, every
-payload loaded. A body's geometry is every ``UsdGeom`` gprim below it that no nearer body
-owns: prims with ``PhysicsCollisionAPI`` are its collisions, the others its visuals.
-Joints are the ``UsdPhysics`` joints between two bodies. A body whose MassAPI does not
+payload loaded. A body's geometry is every `UsdGeom` gprim below it that no nearer body
+owns: prims with `PhysicsCollisionAPI` are its collisions, the others its visuals.
+Joints are the `UsdPhysics` joints between two bodies. A body whose MassAPI does not
 give both mass and inertia has no inertial in the model: the engine computes it from the
 collision shapes (:class:`~urdfinertia.descriptions.model.Implicit`, with the mass the
 MassAPI states, if any). A missing layer is a finding of the document.
@@ -26,8 +26,8 @@ from urdfinertia.descriptions.usd.stage import Opened, open_stage
 from urdfinertia.findings import Finding
 from urdfinertia.rules import Rule
 
-#: UsdPhysics' default density where nothing gives one (kg/m^3, water)
 DEFAULT_DENSITY = 1000.0
+"""UsdPhysics' default density where nothing gives one (kg/m^3, water)"""
 _JOINT_TYPES = {
     "PhysicsRevoluteJoint": "revolute", "PhysicsPrismaticJoint": "prismatic",
     "PhysicsFixedJoint": "fixed", "PhysicsSphericalJoint": "ball",
@@ -53,9 +53,10 @@ class UsdRobot:
     newton: frozenset[str]  # links whose body has NewtonMassAPI applied
     meters_per_unit: float
     kilograms_per_unit: float
-    #: instance prims with bodies inside: opinions below an instance are ignored by
-    #: composition, so the override makes them not instanceable
     instances: tuple[str, ...] = ()
+    """Instance prims with bodies inside: opinions below an instance are ignored by composition, so
+    the override makes them not instanceable.
+    """
 
 
 def valid_identifier(name: str) -> str:
@@ -64,9 +65,9 @@ def valid_identifier(name: str) -> str:
     return "_" + out if not out or out[0].isdigit() else out
 
 
-#: the last asset read and the times of every layer it used: ``fix`` reads the model and
-#: then the override template of the same asset
 _LAST: list[tuple[str, tuple[tuple[str, int], ...], UsdRobot]] = []
+"""The last asset read and the times of every layer it used: `fix` reads the model and then
+the override template of the same asset."""
 
 
 def _stamps(paths: tuple[str, ...]) -> tuple[tuple[str, int], ...] | None:
@@ -78,7 +79,7 @@ def _stamps(paths: tuple[str, ...]) -> tuple[tuple[str, int], ...] | None:
 
 def read(path: Path) -> UsdRobot:
     """The robot of a USD asset. A sublayer, reference or payload that cannot be opened is
-    a finding of the document (``missing-layer``, an error: ``fix`` refuses to write an
+    a finding of the document (`missing-layer`, an error: `fix` refuses to write an
     asset read incomplete)."""
     key = str(path.resolve())
     for k, stamps, found in _LAST:

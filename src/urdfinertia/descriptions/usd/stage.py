@@ -1,9 +1,9 @@
-"""Opening a USD asset: the optional ``pxr`` import, the composed stage, its units.
+"""Opening a USD asset: the optional `pxr` import, the composed stage, its units.
 
 OpenUSD reports problems through its diagnostic delegate (and sometimes only there): a
 corrupt layer, a reference or payload whose layer cannot be found. Opening a stage here
 collects those diagnostics, names the layer each is about, and turns a stage that cannot
-be read into one :class:`~urdfinertia.errors.UrdfError` (the CLI prints one line, exit 2).
+be read into one [`UrdfError`][urdfinertia.errors.UrdfError] (the CLI prints one line, exit 2).
 Missing sublayers, references and payloads are named as problems of the document.
 """
 
@@ -17,19 +17,20 @@ from typing import Any
 
 from urdfinertia.errors import UrdfError
 
-#: What a user without ``pxr`` is told; ``pxr`` comes from one of several wheels that must
-#: not be installed together (see the ``usd`` extra in the project's metadata).
 MISSING_PXR = (
     "reading USD needs OpenUSD's Python modules (pxr), which are not installed: "
     "pip install usd-core (or, beside urdf-usd-converter / mujoco-usd-converter, "
     "pip install usd-exchange; never both, and neither inside Isaac Sim, which has its own)"
 )
+"""What a user without `pxr` is told; `pxr` comes from one of several wheels that must not be
+installed together (see the `usd` extra in the project's metadata).
+"""
 
 SUFFIXES = (".usd", ".usda", ".usdc", ".usdz")
 
 
 def pxr() -> ModuleType:
-    """The ``pxr`` package, or a :class:`UrdfError` with the install command."""
+    """The `pxr` package, or a `UrdfError` with the install command."""
     try:
         import pxr as module
         from pxr import Sdf, Usd, UsdGeom, UsdPhysics  # noqa: F401 - the modules used
@@ -49,12 +50,12 @@ class Opened:
     stage: Any  # pxr.Usd.Stage
     meters_per_unit: float
     kilograms_per_unit: float
-    #: layers that a sublayer, reference or payload names but that cannot be opened
     missing: tuple[str, ...]
+    """Layers that a sublayer, reference or payload names but that cannot be opened."""
 
 
 def open_stage(path: Path) -> Opened:
-    """The composed stage of ``path`` with every payload loaded; refuses what USD cannot
+    """The composed stage of `path` with every payload loaded; refuses what USD cannot
     read with one line naming the layer."""
     px = pxr()
     from pxr import Sdf, Tf, Usd, UsdGeom, UsdPhysics
@@ -91,7 +92,7 @@ def open_stage(path: Path) -> Opened:
 
 def _missing_layers(stage: Any, path: Path) -> tuple[str, ...]:
     """Asset paths named by the composition (sublayers, references, payloads) that do not
-    resolve to a layer, each as ``asset (named in layer)``."""
+    resolve to a layer, each as `asset (named in layer)`."""
     from pxr import Sdf
 
     out: list[str] = []

@@ -1,18 +1,18 @@
 """Corrected MassAPI opinions as USD: an override layer over the asset, or the asset's
 own root layer.
 
-The override layer (``robot.inertia.usda`` by default) sublayers the asset's root layer and
-holds only ``over`` prims with ``physics:mass``, ``physics:centerOfMass``,
-``physics:diagonalInertia`` and ``physics:principalAxes`` (and ``newton:inertia`` where the
-body has ``NewtonMassAPI``, so Newton and the other engines agree). Its own opinions are
+The override layer (`robot.inertia.usda` by default) sublayers the asset's root layer and
+holds only `over` prims with `physics:mass`, `physics:centerOfMass`,
+`physics:diagonalInertia` and `physics:principalAxes` (and `newton:inertia` where the
+body has `NewtonMassAPI`, so Newton and the other engines agree). Its own opinions are
 the strongest local ones, so they win over the asset's layers and payloads; the asset is
 not touched, and dropping the layer undoes the fix. It repeats the root layer's stage
-metadata (``defaultPrim``, ``metersPerUnit``, ``kilogramsPerUnit``, ``upAxis``) because a
+metadata (`defaultPrim`, `metersPerUnit`, `kilogramsPerUnit`, `upAxis`) because a
 stage takes those from its root layer only.
 
-:func:`template` is the format's "expanded document": the override layer with no
-opinions yet, carrying in its ``customLayerData`` what :func:`patch` needs (the prim path
-of each link, the bodies with ``NewtonMassAPI``, the units); :func:`patch` fills it. The
+`template` is the format's "expanded document": the override layer with no
+opinions yet, carrying in its `customLayerData` what `patch` needs (the prim path
+of each link, the bodies with `NewtonMassAPI`, the units); `patch` fills it. The
 record stays: it says which prim each link of the reports is.
 """
 
@@ -34,13 +34,13 @@ _STAGE_METADATA = ("defaultPrim", "metersPerUnit", "kilogramsPerUnit", "upAxis")
 
 
 def override_path(path: Path) -> Path:
-    """Where ``fix`` writes the override layer of an asset: ``robot.inertia.usda``."""
+    """Where `fix` writes the override layer of an asset: `robot.inertia.usda`."""
     return path.with_name(f"{path.stem}.inertia.usda")
 
 
 def template(path: Path, prim_paths: Mapping[str, str], newton: frozenset[str],
              mpu: float, kpu: float, instances: tuple[str, ...] = ()) -> bytes:
-    """The override layer of ``path`` without opinions (its sublayer relative to it)."""
+    """The override layer of `path` without opinions (its sublayer relative to it)."""
     from pxr import Sdf, Vt
 
     root = Sdf.Layer.FindOrOpen(str(path))
@@ -71,7 +71,7 @@ def _open(data: bytes) -> Any:
 
 
 def patch(data: bytes, new: NewInertials) -> bytes:
-    """The override layer ``data`` (from :func:`template`) with the new mass properties."""
+    """The override layer `data` (from `template`) with the new mass properties."""
     layer = _open(data)
     record = dict(layer.customLayerData).get(_KEY)
     if record is None:
@@ -84,7 +84,7 @@ def patch(data: bytes, new: NewInertials) -> bytes:
 
 def author(layer: Any, new: NewInertials,
            record: Mapping[str, Any]) -> None:
-    """Author ``new`` into ``layer`` at the links' prims (``over`` where it has none)."""
+    """Author `new` into `layer` at the links' prims (`over` where it has none)."""
     from pxr import Gf, Sdf, Vt
 
     paths = dict(zip(record["links"], record["paths"], strict=True))
@@ -120,7 +120,7 @@ def author(layer: Any, new: NewInertials,
 
 
 def principal(tensor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Principal moments and a proper rotation R (columns: axes), ``T = R diag R^T``."""
+    """Principal moments and a proper rotation R (columns: axes), `T = R diag R^T`."""
     moments, axes = np.linalg.eigh(0.5 * (tensor + tensor.T))
     if np.linalg.det(axes) < 0:
         axes[:, 2] *= -1.0
@@ -159,7 +159,7 @@ def _set(spec: Any, name: str, type_name: Any, value: Any) -> None:
 
 
 def relocate(data: bytes, source: Path, output: Path) -> tuple[bytes, int]:
-    """The override layer's sublayer path made to resolve from ``output``'s folder."""
+    """The override layer's sublayer path made to resolve from `output`'s folder."""
     layer = _open(data)
     paths = list(layer.subLayerPaths)
     moved = [os.path.relpath(source / p, output) if not os.path.isabs(p) else p
@@ -175,8 +175,8 @@ def relocate(data: bytes, source: Path, output: Path) -> tuple[bytes, int]:
 
 
 def in_place(path: Path, override: bytes) -> None:
-    """Author the override layer's opinions into the asset's root layer at ``path``
-    (written atomically, in its own format; the original kept as ``path.bak``)."""
+    """Author the override layer's opinions into the asset's root layer at `path`
+    (written atomically, in its own format; the original kept as `path.bak`)."""
     import shutil
 
     from pxr import Sdf, UsdUtils

@@ -1,12 +1,12 @@
 """xacro: a robot description kept as macros, properties, includes and YAML parameters.
 
-A xacro file is read by expanding it in-process with the ``xacro`` package
-(:mod:`.expand`, hardened: every file it reads is checked like a description) and reading
-the expanded URDF with the URDF reader; links are named as after expansion. ``fix``
-patches the expanded URDF (the URDF writer); ``fix --write-back`` edits the xacro and YAML
-sources where each value is written (:mod:`.writeback`). Registers the ``xacro``
-:class:`~urdfinertia.descriptions.formats.DescriptionFormat` when imported; it claims a
-``<robot>`` file ending in ``.xacro``, or one whose root declares the xacro namespace and
+A xacro file is read by expanding it in-process with the `xacro` package
+(`.expand`, hardened: every file it reads is checked like a description) and reading
+the expanded URDF with the URDF reader; links are named as after expansion. `fix`
+patches the expanded URDF (the URDF writer); `fix --write-back` edits the xacro and YAML
+sources where each value is written (`.writeback`). Registers the `xacro`
+`DescriptionFormat` when imported; it claims a
+`<robot>` file ending in `.xacro`, or one whose root declares the xacro namespace and
 uses it (a URDF that only keeps the declaration stays a URDF, spliced byte for byte).
 """
 
@@ -31,7 +31,7 @@ _MEMO_SIZE = 8
 
 
 def claims(data: bytes, path: Path) -> bool:
-    """A ``.xacro`` file, or a ``<robot>`` declaring the xacro namespace and using it."""
+    """A `.xacro` file, or a `<robot>` declaring the xacro namespace and using it."""
     if Path(path).suffix.lower() == ".xacro":
         return True
     head = data[: 1 << 16]
@@ -53,7 +53,7 @@ def _signature(paths: tuple[Path, ...]) -> tuple:
 
 
 def expansion(data: bytes, path: str | Path):  # noqa: ANN201 - Expansion, imported lazily
-    """The expansion of ``data`` (the file at ``path``), memoised while its included files
+    """The expansion of `data` (the file at `path`), memoised while its included files
     are unchanged (the format's read, expand and patch each ask for it)."""
     from urdfinertia.descriptions.xacro.expand import current_settings, expand_xacro
 
@@ -96,7 +96,7 @@ def _expand(data, path):  # noqa: ANN001, ANN202
 
 
 def _patch(data, new):  # noqa: ANN001, ANN202
-    """Patch the expanded URDF (``data`` is it, or a xacro source expanded just before)."""
+    """Patch the expanded URDF (`data` is it, or a xacro source expanded just before)."""
     from urdfinertia.descriptions.urdf.write import patch_inertials
 
     digest = hashlib.blake2b(data, digest_size=20).digest()
@@ -111,7 +111,7 @@ def _patch(data, new):  # noqa: ANN001, ANN202
 
 
 def _relocate(data, source_dir, output_dir):  # noqa: ANN001, ANN202
-    """What ``fix`` writes of a xacro file is its expanded URDF: URDF's mesh references."""
+    """What `fix` writes of a xacro file is its expanded URDF: URDF's mesh references."""
     from urdfinertia.descriptions.urdf.mesh_refs import relocate_mesh_refs
 
     return relocate_mesh_refs(data, source_dir, output_dir)

@@ -50,7 +50,7 @@ def _num(text: str | None) -> float | None:
 
 
 def _without(document: bytes, links: set[str]) -> bytes:
-    """``document`` without the <inertial> elements of ``links``."""
+    """`document` without the <inertial> elements of `links`."""
     spans = scan_links(document)
     cuts: list[tuple[int, int]] = []
     for name in links:
@@ -72,7 +72,7 @@ def apply_plan(path: str | Path, exp: Expansion, fixed: bytes, plan: Plan,
                settings: XacroSettings, *, backup: bool = True) -> list[Path]:
     """Write the plan's edits; returns the files written.
 
-    Raises :class:`UrdfError` (exit 2) naming the first mismatch when the edited sources
+    Raises `UrdfError` (exit 2) naming the first mismatch when the edited sources
     do not expand to the fixed URDF: before writing when the in-memory check fails
     (nothing written), after writing when the check from disk fails (sources restored).
     """

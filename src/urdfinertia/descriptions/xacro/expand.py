@@ -1,25 +1,25 @@
-"""Expand a xacro document in-process with the ``xacro`` package, hardened and traced.
+"""Expand a xacro document in-process with the `xacro` package, hardened and traced.
 
-``xacro`` (PyPI, no ROS needed) keeps its state in module globals and reads files itself,
+`xacro` (PyPI, no ROS needed) keeps its state in module globals and reads files itself,
 so one expansion at a time runs under a lock with four hooks in place:
 
-* ``xacro.parse`` (the main file and every ``<xacro:include>``): the file is checked like
+* `xacro.parse` (the main file and every `<xacro:include>`): the file is checked like
   any description (size limit, no entity declarations, no external DTD, no UTF-16/32:
-  :func:`~urdfinertia.descriptions.xml.hostile_xml_cause`) before expat sees it, URLs are
+  `hostile_xml_cause`) before expat sees it, URLs are
   refused, and every element is tagged with where it was written (source file, byte
   offset of its start tag).
-* ``xacro.load_yaml``: the same refusals for YAML (size, URLs); ``yaml.safe_load``.
-* ``$(find PKG)``: the tool's own package lookup (:func:`~urdfinertia.descriptions.paths.
-  find_package`: ``--package-dir``, ``ROS_PACKAGE_PATH``, ``AMENT_PREFIX_PATH``, the
+* `xacro.load_yaml`: the same refusals for YAML (size, URLs); `yaml.safe_load`.
+* `$(find PKG)`: the tool's own package lookup (`
+  find_package`: `--package-dir`, `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH`, the
   folders above the file).
-* ``xacro.eval_all``: an error is located at the innermost element whose source is known,
+* `xacro.eval_all`: an error is located at the innermost element whose source is known,
   and the number of evaluated elements is bounded (a macro bomb stops, it does not fill
   memory).
 
 The tags survive macro expansion (an element copied out of a macro body keeps the tag of
 the body's element), which gives the *trace*: for each element of the expanded URDF, the
-source element it was copied from. Write-back (:mod:`.writeback`) uses it, and errors of
-the URDF reader are mapped back to the xacro line through it. ``overrides`` replaces the
+source element it was copied from. Write-back (`.writeback`) uses it, and errors of
+the URDF reader are mapped back to the xacro line through it. `overrides` replaces the
 bytes of source files without touching the disk (write-back's perturbed expansions).
 """
 
@@ -46,10 +46,10 @@ from urdfinertia.descriptions.xacro.settings import (  # noqa: F401 - this modul
 from urdfinertia.descriptions.xml import MAX_DOCUMENT_BYTES, hostile_xml_cause
 from urdfinertia.errors import UrdfError, UrdfInertiaError
 
-#: Attribute carrying an element's source during expansion; removed from the output.
 SOURCE_ATTR = "urdfinertia-src"
-#: Elements evaluated in one expansion before it is refused (real robots: < 20,000).
+"""Attribute carrying an element's source during expansion; removed from the output."""
 MAX_EVALUATED_ELEMENTS = 2_000_000
+"""Elements evaluated in one expansion before it is refused (real robots: < 20,000)."""
 _URL = re.compile(r"[A-Za-z][A-Za-z0-9+.\-]*://")
 _LOCK = threading.RLock()
 
@@ -58,11 +58,19 @@ _LOCK = threading.RLock()
 class Expansion:
     """One expansion: the URDF bytes and where each of its elements was written.
 
-    sources : every file xacro read, in reading order (main file first), resolved.
-    source_bytes : their contents as read (after ``overrides``).
-    locations : per element of ``document`` in document order: (index into ``sources``,
-        byte offset of the start tag's ``<``), or None (made by ``xacro:element``...).
-    warnings : what xacro printed while expanding.
+    Attributes
+    ----------
+    document : bytes
+        The URDF xacro made.
+    sources : tuple of Path
+        Every file xacro read, in reading order (main file first), resolved.
+    source_bytes : tuple of bytes
+        Their contents as read (after `overrides`).
+    locations : tuple of (int, int) or None
+        Per element of `document`, in document order: (index into `sources`, byte offset
+        of the start tag's `<`), or None (an element made by `xacro:element` ...).
+    warnings : str
+        What xacro printed while expanding.
     """
 
     document: bytes
@@ -72,7 +80,7 @@ class Expansion:
     warnings: str = ""
 
     def where(self, location: tuple[int, int] | None) -> str:
-        """``file:line`` of a location."""
+        """`file:line` of a location."""
         if location is None:
             return "?"
         index, offset = location
@@ -80,6 +88,20 @@ class Expansion:
 
 
 def line_of(data: bytes, offset: int) -> int:
+    """The 1-based line of byte `offset` of `data`.
+
+    Parameters
+    ----------
+    data : bytes
+        A file's contents.
+    offset : int
+        A byte offset.
+
+    Returns
+    -------
+    int
+        Its line.
+    """
     return data.count(b"\n", 0, offset) + 1
 
 
@@ -115,8 +137,8 @@ _FILE_URI = re.compile(r"file://(?:localhost)?(/.*)\Z", re.S)
 
 
 def _local_path(text: str, state: _State) -> str:
-    """The file a name xacro asks for denotes: ``package://`` through the package lookup
-    (xacro itself would join it to the including file's folder), ``file://`` as a path;
+    """The file a name xacro asks for denotes: `package://` through the package lookup
+    (xacro itself would join it to the including file's folder), `file://` as a path;
     any other URL is refused."""
     from urdfinertia.descriptions.paths import find_package, package_hint
 
@@ -224,14 +246,14 @@ def _hooks(state: _State) -> dict[str, Any]:
     return hooks
 
 
-#: xacro functions that handle one element: an error inside is located at that element.
 _LOCATED = ("eval_all", "handle_macro_call", "process_include", "grab_property",
             "grab_macro")
+"""Xacro functions that handle one element: an error inside is located at that element."""
 
 
 @contextlib.contextmanager
 def _locating(node: Any) -> Iterator[None]:
-    """Tag an exception escaping the handling of ``node`` with where ``node`` was written
+    """Tag an exception escaping the handling of `node` with where `node` was written
     (the innermost known element wins)."""
     try:
         yield
@@ -285,9 +307,9 @@ def _patched(state: _State) -> Iterator[None]:
 def expand_xacro(path: str | Path, data: bytes | None = None, *,
                  settings: XacroSettings | None = None,
                  overrides: Mapping[Path, bytes] | None = None) -> Expansion:
-    """Expand the xacro file at ``path`` (its bytes ``data`` if given) to URDF.
+    """Expand the xacro file at `path` (its bytes `data` if given) to URDF.
 
-    Raises :class:`UrdfError` naming the xacro file and line of any xacro, YAML or XML
+    Raises `UrdfError` naming the xacro file and line of any xacro, YAML or XML
     error, a refused file (URL, entity declaration, size) or a package not found.
     """
     import xacro

@@ -11,17 +11,17 @@ _COMMENT = re.compile(rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>", re.S)
 _START_TAG = re.compile(
     rb"<([A-Za-z_][\w.:\-]*)((?:\s+[^\s=/>]+\s*=\s*(?:\"[^\"]*\"|'[^']*'))*)\s*(/?)>", re.S)
 _ATTR = re.compile(rb"([^\s=/>]+)\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
-#: a value's tokens: runs of non-space characters, ${...} and $(...) kept whole
 _VALUE_TOKEN = re.compile(rb"(?:\$\{[^}]*\}|\$\([^)]*\)|[^\s])+")
+"""A value's tokens: runs of non-space characters, ${...} and $(...) kept whole."""
 _MACRO_DEFAULT = re.compile(rb"([^\s:=]+)\s*:?=\s*(?:\^\|?)?([^\s]+)")
-#: xacro elements whose attributes are not values that flow into the document
 _NOT_VALUES = {b"xacro:include", b"xacro:if", b"xacro:unless", b"xacro:insert_block",
                b"xacro:element", b"xacro:attribute", b"xacro:call"}
+"""Xacro elements whose attributes are not values that flow into the document."""
 
 
 @dataclass(frozen=True)
 class Literal:
-    """A number written in a source file: ``source`` indexes ``Expansion.sources``."""
+    """A number written in a source file: `source` indexes `Expansion.sources`."""
 
     source: int
     start: int
@@ -32,6 +32,7 @@ class Literal:
 
     @property
     def value(self) -> float:
+        """The literal's number."""
         return float(self.text)
 
 
@@ -44,7 +45,7 @@ class Attribute:
 
 
 def start_tag_at(data: bytes, offset: int) -> tuple[str, list[Attribute], int, bool] | None:
-    """(name, attributes, end offset, self-closing) of the start tag at ``offset``."""
+    """(name, attributes, end offset, self-closing) of the start tag at `offset`."""
     m = _START_TAG.match(data, offset)
     if m is None:
         return None
@@ -120,8 +121,8 @@ def _macro_defaults(data: bytes, attr: Attribute, source: int, macro: str) -> li
 
 def element_literals(data: bytes, offset: int, attr_name: str, source: int,
                      ) -> tuple[list[tuple[Literal | None, str]], str | None]:
-    """Per token of attribute ``attr_name`` of the element whose start tag is at
-    ``offset``: the literal (or None and the token's text); and the whole raw value."""
+    """Per token of attribute `attr_name` of the element whose start tag is at
+    `offset`: the literal (or None and the token's text); and the whole raw value."""
     tag = start_tag_at(data, offset)
     if tag is None:
         return [], None
@@ -179,7 +180,7 @@ def yaml_literals(data: bytes, source: int) -> list[Literal]:
 
 
 def yaml_number(text: str) -> str:
-    """A float as YAML 1.1 (PyYAML) reads it back as a float: ``1e-05`` -> ``1.0e-05``."""
+    """A float as YAML 1.1 (PyYAML) reads it back as a float: `1e-05` -> `1.0e-05`."""
     mantissa, e, exponent = text.lower().partition("e")
     if not e:
         return text

@@ -1,6 +1,6 @@
 """The arguments and package folders every xacro expansion uses, set for a whole run.
 
-Kept apart from :mod:`.expand` (which imports the ``xacro`` package, ``xml.dom`` and lxml)
+Kept apart from `.expand` (which imports the `xacro` package, `xml.dom` and lxml)
 so that a command can set them without loading xacro support: a run whose every file
 comes from the cache, or that has no xacro input, never expands anything.
 """
@@ -15,7 +15,7 @@ from pathlib import Path
 
 @dataclass(frozen=True)
 class XacroSettings:
-    """``--xacro-arg NAME:=VALUE`` and ``--package-dir NAME=PATH`` for every expansion."""
+    """`--xacro-arg NAME:=VALUE` and `--package-dir NAME=PATH` for every expansion."""
 
     args: tuple[tuple[str, str], ...] = ()
     package_dirs: tuple[tuple[str, str], ...] = ()
@@ -44,6 +44,13 @@ def absolute_folder(path: str | Path) -> str:
 
 
 def current_settings() -> XacroSettings:
+    """The xacro arguments and package folders expansions use now.
+
+    Returns
+    -------
+    XacroSettings
+        Set by `configure` or, for one call, `settings_for`.
+    """
     return _settings
 
 
@@ -51,7 +58,7 @@ def current_settings() -> XacroSettings:
 def settings_for(args: Mapping[str, str] | None = None,
                  package_dirs: Mapping[str, str | Path] | None = None,
                  ) -> Iterator[XacroSettings]:
-    """Expansions inside the ``with`` block use ``args`` and ``package_dirs``; the settings
+    """Expansions inside the `with` block use `args` and `package_dirs`; the settings
     before it are restored after (the library's per-call xacro options)."""
     global _settings
     before = _settings

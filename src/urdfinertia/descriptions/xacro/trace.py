@@ -14,8 +14,6 @@ from urdfinertia.descriptions.xml import parse_document
 if TYPE_CHECKING:
     from urdfinertia.descriptions.xacro.expand import Expansion
 
-#: The ten values of an inertial (plus rpy): (name, element under <inertial>, attribute,
-#: token index, value when the element or attribute is absent).
 SLOTS = (
     ("mass", "mass", "value", 0, None),
     ("com x", "origin", "xyz", 0, "0"), ("com y", "origin", "xyz", 1, "0"),
@@ -26,9 +24,12 @@ SLOTS = (
     ("ixz", "inertia", "ixz", 0, None), ("iyy", "inertia", "iyy", 0, None),
     ("iyz", "inertia", "iyz", 0, None), ("izz", "inertia", "izz", 0, None),
 )
+"""The ten values of an inertial (plus rpy): (name, element under <inertial>, attribute, token
+index, value when the element or attribute is absent).
+"""
 
-#: A position in an expansion: (element index in document order, attribute, token index).
 Position = tuple[int, str, int]
+"""A position in an expansion: (element index in document order, attribute, token index)."""
 
 
 @dataclass(frozen=True)
@@ -45,16 +46,40 @@ class LinkInertial:
 
 
 def elements(document: bytes) -> list[etree._Element]:
+    """Every element of an expanded document, in document order.
+
+    Parameters
+    ----------
+    document : bytes
+        The URDF xacro made.
+
+    Returns
+    -------
+    list of lxml elements
+        In document order.
+    """
     root = parse_document(document, "<xacro expansion>", ("robot",))
     return list(root.iter(etree.Element))
 
 
 def index_of(els: list[etree._Element]) -> dict[etree._Element, int]:
+    """Each element's position in `els`.
+
+    Parameters
+    ----------
+    els : list of lxml elements
+        Elements in document order.
+
+    Returns
+    -------
+    dict
+        Element -> index.
+    """
     return {el: i for i, el in enumerate(els)}
 
 
 def link_inertials(els: list[etree._Element]) -> dict[str, LinkInertial]:
-    """Each ``<robot>``-level link's inertial values and their positions."""
+    """Each `<robot>`-level link's inertial values and their positions."""
     index = index_of(els)
     out: dict[str, LinkInertial] = {}
     root = els[0]
@@ -96,7 +121,7 @@ def token_stream(els: list[etree._Element]) -> tuple[tuple, dict[Position, str]]
 
 
 def describe(els: list[etree._Element], position: Position) -> str:
-    """A position in words: ``joint 'j1' origin@xyz[2]``."""
+    """A position in words: `joint 'j1' origin@xyz[2]`."""
     i, attr, tok = position
     el = els[i]
     path = []
@@ -112,7 +137,7 @@ def describe(els: list[etree._Element], position: Position) -> str:
 
 
 def source_of_line(exp: Expansion, line: int) -> tuple[Path, int] | None:
-    """The source file and line of the element at ``line`` of the expansion."""
+    """The source file and line of the element at `line` of the expansion."""
     from urdfinertia.descriptions.xacro.expand import line_of
 
     try:

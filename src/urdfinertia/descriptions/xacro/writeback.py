@@ -2,12 +2,12 @@
 
 Method (for the links whose inertial changes between the expansion E0 and the fixed URDF):
 
-1. The trace (:mod:`.expand`) names the source element each expanded element was copied
-   from. A link's ``<inertial>`` copied from a source element that holds no ``$`` and is
+1. The trace (`.expand`) names the source element each expanded element was copied
+   from. A link's `<inertial>` copied from a source element that holds no `$` and is
    used once in the whole expansion is a literal: it is spliced as a whole, as for URDF.
 2. Otherwise each changed value (mass, CoM xyz, rpy, six moments) is looked for among the
    source literals that could carry it: numbers in the attribute of its own source
-   element, in ``xacro:property``/``xacro:arg`` values and defaults, macro parameter
+   element, in `xacro:property`/`xacro:arg` values and defaults, macro parameter
    defaults, macro call attributes and YAML scalars, keeping those equal to its value.
 3. Discovery: those candidates are replaced by distinct marker numbers and the sources
    expanded again (in memory); a value showing a candidate's marker comes from that
@@ -70,11 +70,12 @@ class LinkOutcome:
 @dataclass
 class Plan:
     outcomes: list[LinkOutcome]
-    #: (source path, start, end, new bytes) per edit
     edits: list[tuple[Path, int, int, bytes]] = field(default_factory=list)
+    """(source path, start, end, new bytes) per edit."""
 
     @property
     def written(self) -> set[str]:
+        """The links whose values were written back."""
         return {o.link for o in self.outcomes if o.status == "written"}
 
     def new_sources(self, exp: Expansion) -> dict[Path, bytes]:
@@ -119,7 +120,7 @@ class _Prober:
         return self.markers[lit]
 
     def changes(self, lits: list[Literal]) -> dict[Position, str] | None:
-        """Tokens that moved when ``lits`` are perturbed; None: expansion failed or its
+        """Tokens that moved when `lits` are perturbed; None: expansion failed or its
         structure changed."""
         by_file: dict[int, list[Literal]] = {}
         for lit in lits:
@@ -190,7 +191,7 @@ class _Prober:
 def plan_write_back(path: str | Path, exp: Expansion, fixed: bytes,
                     settings: XacroSettings) -> Plan:
     """Decide, link by link, which source bytes to change so that expanding the sources
-    gives ``fixed`` (the fixed expanded URDF; ``exp`` is the traced original expansion)."""
+    gives `fixed` (the fixed expanded URDF; `exp` is the traced original expansion)."""
     path = Path(path).absolute()
     prober = _Prober(path, exp, settings)
     els = prober.els
@@ -323,6 +324,20 @@ def _plan_values(prober: _Prober, exp: Expansion, before: dict[str, LinkInertial
 
 
 def els_value(prober: _Prober, position: Position) -> list[str]:
+    """The whitespace-separated words at `position` of the prober's expansion.
+
+    Parameters
+    ----------
+    prober : _Prober
+        An expansion with probe values.
+    position : Position
+        (element index, attribute or "#text", word index).
+
+    Returns
+    -------
+    list of str
+        The attribute's (or the text's) words.
+    """
     el_index, attr, _ = position
     el = prober.els[el_index]
     return (el.text if attr == "#text" else el.get(attr, "")).split()
@@ -338,7 +353,7 @@ def _lit_where(exp: Expansion, lit: Literal) -> str:
 
 def _whole_element(exp: Expansion, old: LinkInertial, new: LinkInertial,
                    uses: dict[tuple[int, int], int], plan: Plan) -> str | None:
-    """Splice a literal ``<inertial>`` written once (or insert one into a ``<link>`` written
+    """Splice a literal `<inertial>` written once (or insert one into a `<link>` written
     once that has none); the place in words, or None when that does not apply."""
     if old.inertial_index is not None:
         loc = exp.locations[old.inertial_index]

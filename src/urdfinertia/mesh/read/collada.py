@@ -1,20 +1,20 @@
-"""COLLADA triangles as ``trimesh.exchange.dae.load_collada`` finds them, at less cost.
+"""COLLADA triangles as `trimesh.exchange.dae.load_collada` finds them, at less cost.
 
-pycollada parses every ``<source>`` of every geometry (normals, texture coordinates,
-colours) with ``numpy.fromstring``, which is most of the time of reading a COLLADA file,
-although the mesh needs only the positions and the ``<p>`` indices. Here pycollada still
+pycollada parses every `<source>` of every geometry (normals, texture coordinates,
+colours) with `numpy.fromstring`, which is most of the time of reading a COLLADA file,
+although the mesh needs only the positions and the `<p>` indices. Here pycollada still
 loads the document (the same lxml parse, asset, effects, materials, nodes and scenes, so
 node transforms, instance and material binding rules are its own), but the geometry
-library is read by :func:`_mesh_primitives`: positions and indices with the same
-``numpy.fromstring`` calls (float32, NaN as 0, int32), and of the other sources only
+library is read by `_mesh_primitives`: positions and indices with the same
+`numpy.fromstring` calls (float32, NaN as 0, int32), and of the other sources only
 what pycollada checks (value counts, component names, index ranges), counted without
 parsing the numbers. The scene is then walked as trimesh walks it (the same
-``numpy.dot`` of float64 parent and float32 node matrices).
+`numpy.dot` of float64 parent and float32 node matrices).
 
-Whatever this reader does not reproduce exactly raises :class:`NeedsPycollada`: a
-geometry pycollada would leave out for an error, ``<polygons>``, ``<tristrips>``,
-``<trifans>``, controllers, numbers other than plain decimals, a polygon of fewer than
-three corners, ... The caller then reads the file with trimesh's loader. ``<lines>`` hold
+Whatever this reader does not reproduce exactly raises `NeedsPycollada`: a
+geometry pycollada would leave out for an error, `<polygons>`, `<tristrips>`,
+`<trifans>`, controllers, numbers other than plain decimals, a polygon of fewer than
+three corners, ... The caller then reads the file with trimesh's loader. `<lines>` hold
 no triangles; they are only checked as pycollada checks them.
 """
 
@@ -33,11 +33,11 @@ class NeedsPycollada(Exception):
     """The document holds something only pycollada's own geometry loader reproduces."""
 
 
-#: Bytes a float array may hold for its numbers to be counted without parsing them.
 _NUMBER_BYTES = b"0123456789+-.eE \t\n\r\v\f"
+"""Bytes a float array may hold for its numbers to be counted without parsing them."""
 _NUMBER_OR_SPACE = b"0123456789+-.eE "
-#: White space (numpy's separator " " matches any run of it) as a plain space.
 _SPACES = bytes.maketrans(b"\t\n\r\v\f", b"     ")
+"""White space (numpy's separator " " matches any run of it) as a plain space."""
 
 
 
@@ -68,7 +68,7 @@ def _release(doc: Any) -> None:
 
 
 def _scene_pieces(doc: Any) -> list[Piece]:
-    """The triangle-set instances of ``doc``'s default scene, as trimesh walks it."""
+    """The triangle-set instances of `doc`'s default scene, as trimesh walks it."""
     import collada
     from trimesh.exchange.dae import _parse_material
 
@@ -101,7 +101,7 @@ def _scene_pieces(doc: Any) -> list[Piece]:
 
 
 def _ignores() -> list[type]:
-    """The pycollada errors ``load_collada`` ignores (a part that fails is left out)."""
+    """The pycollada errors `load_collada` ignores (a part that fails is left out)."""
     import collada
 
     common = collada.common
@@ -158,7 +158,7 @@ class _Triangles:
 
 
 class _Source:
-    """A ``<source>``: its components and number of values, its numbers on demand."""
+    """A `<source>`: its components and number of values, its numbers on demand."""
 
     def __init__(self, node: Any, tag: Any) -> None:
         array = node.find(tag("float_array"))
@@ -187,7 +187,7 @@ class _Source:
         self._data: np.ndarray | None = None
 
     def positions(self) -> np.ndarray:
-        """(n, 3) float32: pycollada's ``FloatSource.data`` of a position source."""
+        """(n, 3) float32: pycollada's `FloatSource.data` of a position source."""
         if self._data is None:
             if self._stp or not _fits(self.components, 3, ("X", "Y", "Z")):
                 raise NeedsPycollada("positions without three components")
@@ -204,15 +204,15 @@ class _Source:
 
 
 def _fits(components: tuple, count: int, names: tuple) -> bool:
-    """pycollada's ``checkSource`` on components: renamed when the count matches."""
+    """pycollada's `checkSource` on components: renamed when the count matches."""
     return len(components) == count or components == names
 
 
 def _count_numbers(text: str | None) -> int:
-    """How many numbers ``numpy.fromstring(text, sep=" ")`` finds, without parsing them.
+    """How many numbers `numpy.fromstring(text, sep=" ")` finds, without parsing them.
 
     Only text of digits, signs, points, exponent letters and white space is counted
-    (anything else, such as ``nan``, commas or non-ASCII, raises :class:`NeedsPycollada`):
+    (anything else, such as `nan`, commas or non-ASCII, raises `NeedsPycollada`):
     the numbers are the runs between white space, counted with bytes methods.
     """
     if not text or text.isspace():
@@ -234,8 +234,8 @@ def _count_numbers(text: str | None) -> int:
 
 
 def _fromstring(text: str, dtype: type) -> np.ndarray:
-    """pycollada's ``numpy.fromstring(text, dtype, sep=" ")``; text it would read only in
-    part (numpy warns and stops) raises :class:`NeedsPycollada`."""
+    """pycollada's `numpy.fromstring(text, dtype, sep=" ")`; text it would read only in
+    part (numpy warns and stops) raises `NeedsPycollada`."""
     with warnings.catch_warnings():
         warnings.simplefilter("error", DeprecationWarning)
         try:
@@ -251,7 +251,7 @@ def _indices(node: Any) -> np.ndarray:
 
 
 def _mesh_primitives(mesh: Any, tag: Any) -> list[_Triangles]:
-    """The triangle sets of a ``<mesh>``, as pycollada's ``Geometry.load`` reads them."""
+    """The triangle sets of a `<mesh>`, as pycollada's `Geometry.load` reads them."""
     sources: dict[str | None, _Source] = {}
     vertices = None
     primitives = []
@@ -315,7 +315,7 @@ def _inputs(node: Any, scope: dict, tag: Any) -> list[tuple[int, str, _Source]]:
 
 
 def _triangles(node: Any, scope: dict, tag: Any) -> _Triangles:
-    """A ``<triangles>`` or ``<polylist>`` as trimesh's vertices of its TriangleSet."""
+    """A `<triangles>` or `<polylist>` as trimesh's vertices of its TriangleSet."""
     inputs, width, p = _primitive(node, scope, tag)
     index = _indices(p)
     if node.tag == tag("polylist"):
@@ -342,7 +342,7 @@ def _lines(node: Any, scope: dict, tag: Any) -> None:
 
 
 def _primitive(node: Any, scope: dict, tag: Any) -> tuple[list, int, Any]:
-    """A primitive's inputs, index width (largest offset + 1) and first ``<p>``."""
+    """A primitive's inputs, index width (largest offset + 1) and first `<p>`."""
     inputs = _inputs(node, scope, tag)
     if not any(semantic == "VERTEX" for _, semantic, _ in inputs):
         raise NeedsPycollada("a primitive without VERTEX input")
@@ -352,16 +352,17 @@ def _primitive(node: Any, scope: dict, tag: Any) -> tuple[list, int, Any]:
     return inputs, max(offset for offset, _, _ in inputs) + 1, p
 
 
-#: (semantic, components (0: any), every input or the first only) that pycollada's
-#: TriangleSet checks or trimesh gathers, and those its LineSet checks.
 _TRIANGLE_CHECKS = (("VERTEX", 3, False), ("NORMAL", 3, False), ("COLOR", 0, False),
                     ("TEXCOORD", 2, True), ("TEXTANGENT", 3, True),
                     ("TEXBINORMAL", 3, True))
+"""(semantic, components (0: any), every input or the first only) that pycollada's TriangleSet
+checks or trimesh gathers, and those its LineSet checks.
+"""
 _LINE_CHECKS = (("VERTEX", 3, False), ("NORMAL", 3, False), ("TEXCOORD", 2, True))
 
 
 def _checked(index: np.ndarray, inputs: list, checks: tuple) -> tuple[int, _Source]:
-    """The (offset, source) of the positions, after checking ``index`` (k, corners, width)
+    """The (offset, source) of the positions, after checking `index` (k, corners, width)
     against every checked input's source."""
     if index.min() < 0:
         raise NeedsPycollada("negative indices")
@@ -373,7 +374,7 @@ def _checked(index: np.ndarray, inputs: list, checks: tuple) -> tuple[int, _Sour
 
 
 def _check(index: np.ndarray, offset: int, source: _Source, components: int) -> None:
-    """pycollada's ``checkSource`` (and trimesh's gathers): indices within the source, and
+    """pycollada's `checkSource` (and trimesh's gathers): indices within the source, and
     its component count (0: any)."""
     if int(index[..., offset].max()) >= source.rows:
         raise NeedsPycollada("indices beyond their source")
@@ -383,7 +384,7 @@ def _check(index: np.ndarray, offset: int, source: _Source, components: int) -> 
 
 
 def _fan(index: np.ndarray, counts: np.ndarray, width: int) -> np.ndarray:
-    """pycollada's ``Polylist.triangleset()`` index: each polygon as a fan about its first
+    """pycollada's `Polylist.triangleset()` index: each polygon as a fan about its first
     corner, for polygons of three corners or more that use every index row."""
     if index.size % width:
         raise NeedsPycollada("polylist indices not in whole corners")

@@ -1,7 +1,7 @@
-"""What every mesh reader of the registry (:mod:`.load`) returns: :class:`Piece` lists.
+"""What every mesh reader of the registry (`.load`) returns: `Piece` lists.
 
-A reader that meets something it does not reproduce raises :class:`NeedsTrimesh`, and
-:func:`urdfinertia.mesh.read.load.load_mesh` reads the file with ``trimesh.load`` instead.
+A reader that meets something it does not reproduce raises `NeedsTrimesh`, and
+`urdfinertia.mesh.read.load.load_mesh` reads the file with `trimesh.load` instead.
 """
 
 from __future__ import annotations
@@ -10,8 +10,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-#: The transform of a piece that is not placed by a scene graph (trimesh's identity).
 IDENTITY = np.eye(4)
+"""The transform of a piece that is not placed by a scene graph (trimesh's identity)."""
 IDENTITY.flags.writeable = False
 
 
@@ -31,7 +31,7 @@ class TooManyFaces(Exception):
 class Piece:
     """One scene instance of one triangle set, in its node's frame.
 
-    ``transform`` places it in the file's root frame, as trimesh's scene graph would.
+    `transform` places it in the file's root frame, as trimesh's scene graph would.
     Pieces of several instances of one geometry share their arrays.
     """
 
@@ -41,10 +41,10 @@ class Piece:
 
 
 def parse_floats(text: str | bytes, dtype: type = np.float64) -> np.ndarray:
-    """Whitespace-separated numbers, as ``np.fromstring(text, dtype, sep=" ")``.
+    """Whitespace-separated numbers, as `np.fromstring(text, dtype, sep=" ")`.
 
-    ``np.fromstring`` returns an uninitialised value for a blank non-empty string; such
-    text raises :class:`NeedsTrimesh` instead, so callers never see that value.
+    `np.fromstring` returns an uninitialised value for a blank non-empty string; such
+    text raises `NeedsTrimesh` instead, so callers never see that value.
     """
     if text and not text.strip():
         raise NeedsTrimesh("blank number list")

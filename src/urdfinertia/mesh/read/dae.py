@@ -1,15 +1,15 @@
-"""COLLADA as trimesh's own loader (``trimesh.exchange.dae.load_collada``) reads it.
+"""COLLADA as trimesh's own loader (`trimesh.exchange.dae.load_collada`) reads it.
 
-First by the direct reader (:mod:`.collada`: the same arrays, bit for bit, without parsing
+First by the direct reader (`.collada`: the same arrays, bit for bit, without parsing
 the sources a mesh does not need), else by that loader, called directly, without
-``trimesh.load``'s scene machinery. pycollada's tolerance is kept (a geometry, node or
-material it cannot load is left out); what it does not read (``<tristrips>``,
-controllers) holds no triangles here either. Every ``<triangles>`` or ``<polylist>``
+`trimesh.load`'s scene machinery. pycollada's tolerance is kept (a geometry, node or
+material it cannot load is left out); what it does not read (`<tristrips>`,
+controllers) holds no triangles here either. Every `<triangles>` or `<polylist>`
 instance is one piece: an unwelded triangle soup placed by its node's world matrix; the
 repair's weld joins the corners (the mass properties are those of the welded surface,
-checked against ``trimesh.load`` on every mesh of example-robot-data). The caller has
+checked against `trimesh.load` on every mesh of example-robot-data). The caller has
 refused hostile XML (entities, external DTDs) and zipped files, checked the declared
-face count, and applies ``<unit meter>``.
+face count, and applies `<unit meter>`.
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ from urdfinertia.mesh.read.common import Piece
 def read_dae(data: bytes, max_faces: int) -> list[Piece]:
     """Every triangle-set instance of a COLLADA document, in its world frame.
 
-    The direct reader (:func:`.collada.read_collada`) gives trimesh's arrays at less
-    cost; what it does not reproduce is read by trimesh's loader (:func:`read_dae_trimesh`).
+    The direct reader (`.collada.read_collada`) gives trimesh's arrays at less
+    cost; what it does not reproduce is read by trimesh's loader (`read_dae_trimesh`).
     """
     try:
         return read_collada(data)
@@ -38,7 +38,7 @@ def read_dae(data: bytes, max_faces: int) -> list[Piece]:
 
 
 def read_dae_trimesh(data: bytes, max_faces: int) -> list[Piece]:
-    """:func:`read_dae` through ``trimesh.exchange.dae.load_collada`` (pycollada)."""
+    """`read_dae` through `trimesh.exchange.dae.load_collada` (pycollada)."""
     from trimesh.exchange.dae import load_collada
 
     loaded = load_collada(io.BytesIO(data))

@@ -1,14 +1,14 @@
 """Read mesh files (STL, OBJ, DAE, PLY, GLB/glTF, OFF) into plain vertex/face arrays.
 
 A scene's node transforms are applied and every piece is concatenated into one array pair;
-splitting into bodies happens later (:mod:`urdfinertia.mesh.solids`). COLLADA ``<unit meter>``
+splitting into bodies happens later (`urdfinertia.mesh.solids`). COLLADA `<unit meter>`
 is honoured, as RViz and Gazebo do.
 
-The readers form a registry by suffix (``_NATIVE``): STL by this package's own reader
-(:mod:`.stl`: trimesh's arrays, less memory on ASCII files), OBJ by trimesh's own loader
-called directly (:mod:`.obj`), COLLADA by a direct reader of trimesh's arrays with
-trimesh's loader behind it (:mod:`.dae`, :mod:`.collada`); PLY, GLB/glTF and OFF,
-and the rare STL the native reader leaves aside, through ``trimesh.load``. Every file is
+The readers form a registry by suffix (`_NATIVE`): STL by this package's own reader
+(`.stl`: trimesh's arrays, less memory on ASCII files), OBJ by trimesh's own loader
+called directly (`.obj`), COLLADA by a direct reader of trimesh's arrays with
+trimesh's loader behind it (`.dae`, `.collada`); PLY, GLB/glTF and OFF,
+and the rare STL the native reader leaves aside, through `trimesh.load`. Every file is
 size-checked, face-counted and (COLLADA) scanned for hostile XML before a parser runs.
 """
 
@@ -37,10 +37,10 @@ from urdfinertia.rules import Rule
 
 SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off", ".msh")
 _CHUNK = 1 << 20
-#: Largest vertex coordinate accepted, m (after unit scaling): fifth powers stay finite.
 MAX_COORDINATE = 1e9
-#: Bytes of a COLLADA file searched for ``<unit meter>``.
+"""Largest vertex coordinate accepted, m (after unit scaling): fifth powers stay finite."""
 _UNIT_HEAD = 65536
+"""Bytes of a COLLADA file searched for `<unit meter>`."""
 _IDENTITY_BYTES = np.eye(4).tobytes()
 
 
@@ -53,11 +53,11 @@ class TriangleMesh:
 
 
 def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleMesh:
-    """Load ``path`` without any repair or vertex merging, within bounded memory.
+    """Load `path` without any repair or vertex merging, within bounded memory.
 
-    Before any parser runs, the file's size is checked against :func:`max_mesh_bytes` and
+    Before any parser runs, the file's size is checked against `max_mesh_bytes` and
     its face count, where the format declares or cheaply reveals it, against
-    ``max_faces`` (:func:`declared_faces`). COLLADA files are refused when they declare
+    `max_faces` (`declared_faces`). COLLADA files are refused when they declare
     XML entities or an external DTD. STL, OBJ and COLLADA files are read once, and these
     checks scan the bytes read. After loading, the triangle count (with every scene
     instance expanded) is checked again before the arrays are built.
@@ -66,7 +66,7 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
     ------
     MeshError
         Unsupported format, unreadable or corrupt file, no triangles, too large a file or
-        more than ``max_faces`` faces.
+        more than `max_faces` faces.
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -154,7 +154,7 @@ def _too_large(path: Path, size: int, limit: int, max_faces: int) -> MeshError:
 
 def _native_pieces(path: Path, suffix: str, data: bytes, max_faces: int
                    ) -> list[Piece] | None:
-    """The file's pieces from its format's reader; None to read it with ``trimesh.load``.
+    """The file's pieces from its format's reader; None to read it with `trimesh.load`.
 
     The STL reader hands what it does not reproduce (several solids, ...) to trimesh;
     the OBJ and COLLADA readers are trimesh's own loaders, whose failure is final.
@@ -187,9 +187,9 @@ def _read_msh(data: bytes, max_faces: int) -> list[Piece]:
     return read_msh(data)
 
 
-#: The reader registry by suffix: reader(bytes, max_faces) -> pieces.
 _NATIVE: dict[str, Callable[[bytes, int], list[Piece]]] = {
     ".stl": _read_stl, ".obj": read_obj, ".dae": read_dae, ".msh": _read_msh}
+"""The reader registry by suffix: reader(bytes, max_faces) -> pieces."""
 
 
 def _too_many(path: Path, faces: int, max_faces: int) -> MeshError:
@@ -223,7 +223,7 @@ def declared_faces(stream: BinaryIO, suffix: str, size: int) -> int | None:
     """Triangles the file holds, found without parsing it, or None when unknown.
 
     Binary STL, PLY and OFF headers state the count; ASCII STL, OBJ and COLLADA are
-    scanned in chunks of ``_CHUNK`` bytes (a lower bound for polygons of more than three
+    scanned in chunks of `_CHUNK` bytes (a lower bound for polygons of more than three
     corners, checked again after loading). glTF/GLB counts are taken after loading.
     """
     head = stream.read(4096)
@@ -257,10 +257,10 @@ def declared_faces(stream: BinaryIO, suffix: str, size: int) -> int | None:
 
 
 def declared_faces_in(data: bytes, suffix: str) -> int | None:
-    """:func:`declared_faces` of a whole file already in memory (same count, faster).
+    """`declared_faces` of a whole file already in memory (same count, faster).
 
     The STL and OBJ patterns cannot overlap themselves, so counting them with
-    ``bytes.count`` finds what the chunked scan finds.
+    `bytes.count` finds what the chunked scan finds.
     """
     if suffix == ".stl":
         if len(data) >= 84:
@@ -282,10 +282,10 @@ def _count_pattern(stream: BinaryIO, pattern: re.Pattern[bytes], width: int) -> 
 
 def _sum_pattern(stream: BinaryIO, pattern: re.Pattern[bytes], width: int,
                  count_only: bool = False) -> int:
-    """Sum of group 1 (or number) of the matches of ``pattern`` over a stream.
+    """Sum of group 1 (or number) of the matches of `pattern` over a stream.
 
-    Matches are at most ``width`` bytes long; a match is taken only when it starts
-    before the last ``width`` bytes of the window, the rest is carried over.
+    Matches are at most `width` bytes long; a match is taken only when it starts
+    before the last `width` bytes of the window, the rest is carried over.
     """
     total = 0
     carry = b""
@@ -332,7 +332,7 @@ def _concatenate(pieces: list[Piece], path: Path, max_faces: int
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Every piece in the scene's root frame, as one vertex and one face array.
 
-    The total is checked against ``max_faces`` before anything is copied: a small file
+    The total is checked against `max_faces` before anything is copied: a small file
     can instance one large mesh many times.
     """
     instances = [piece for piece in pieces if len(piece.faces) > 0]
@@ -370,7 +370,7 @@ def _concatenate(pieces: list[Piece], path: Path, max_faces: int
 
 
 def _collada_unit(head: bytes) -> float | None:
-    """``<unit meter>`` found in the first ``_UNIT_HEAD`` bytes of a COLLADA file."""
+    """`<unit meter>` found in the first `_UNIT_HEAD` bytes of a COLLADA file."""
     match = re.search(rb"<unit\b[^>]*\bmeter\s*=\s*[\"']([0-9.eE+-]+)[\"']", head)
     if not match:
         return None

@@ -1,4 +1,4 @@
-"""Read MuJoCo's binary ``.msh`` meshes (MJCF reference, ``mesh/file``).
+"""Read MuJoCo's binary `.msh` meshes (MJCF reference, `mesh/file`).
 
 Layout, little-endian: four int32 counts (vertices, normals, texture coordinates, faces),
 then float32 vertices (3 each), normals (3 each), texture coordinates (2 each) and int32
@@ -23,7 +23,7 @@ def msh_face_count(data: bytes) -> int | None:
 
 
 def read_msh(data: bytes) -> list[Piece]:
-    """The triangles of a ``.msh`` file's bytes.
+    """The triangles of a `.msh` file's bytes.
 
     Raises
     ------
@@ -49,7 +49,7 @@ def read_msh(data: bytes) -> list[Piece]:
 
 
 def _hull(vertices: np.ndarray) -> np.ndarray:
-    """Outward-wound triangles of the convex hull of ``vertices``."""
+    """Outward-wound triangles of the convex hull of `vertices`."""
     from scipy.spatial import ConvexHull
 
     hull = ConvexHull(vertices)

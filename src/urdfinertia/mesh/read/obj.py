@@ -1,7 +1,7 @@
-"""Wavefront OBJ through trimesh's own loader (``trimesh.exchange.obj.load_obj``).
+"""Wavefront OBJ through trimesh's own loader (`trimesh.exchange.obj.load_obj`).
 
-Called directly, without ``trimesh.load``'s scene machinery (which was most of its cost),
-with ``skip_materials=True`` and no resolver: an ``.mtl`` or texture is never opened.
+Called directly, without `trimesh.load`'s scene machinery (which was most of its cost),
+with `skip_materials=True` and no resolver: an `.mtl` or texture is never opened.
 OBJ has no scene graph: every geometry sits at the identity.
 """
 

@@ -1,7 +1,7 @@
-"""Read binary and ASCII STL like ``trimesh.exchange.stl`` with ``process=False``.
+"""Read binary and ASCII STL like `trimesh.exchange.stl` with `process=False`.
 
-Every facet gets its own three vertices, in file order (no merging): vertex ``3 i + k``
-is corner ``k`` of facet ``i``. A file whose size matches the facet count of its binary
+Every facet gets its own three vertices, in file order (no merging): vertex `3 i + k`
+is corner `k` of facet `i`. A file whose size matches the facet count of its binary
 header is binary, whatever its first bytes say; any other file is read as ASCII.
 """
 
@@ -44,7 +44,7 @@ def read_stl(data: bytes) -> list[Piece]:
 
 
 def _read_ascii(data: bytes) -> list[Piece]:
-    """``load_stl_ascii``: every ``solid ... endsolid`` block with three or more numbers.
+    """`load_stl_ascii`: every `solid ... endsolid` block with three or more numbers.
 
     trimesh strips and lower-cases the decoded text; for ASCII text the lower-cased
     bytes hold the same blocks (stripping only moves them), without two more copies.
@@ -78,9 +78,9 @@ def _read_ascii(data: bytes) -> list[Piece]:
 
 
 def _vertex_numbers(raw: bytes, start: int, end: int) -> np.ndarray:
-    """The numbers after each ``vertex`` keyword of ``raw[start:end]`` up to its line's end.
+    """The numbers after each `vertex` keyword of `raw[start:end]` up to its line's end.
 
-    trimesh splits the block on ``vertex`` and cuts each piece at its first newline; that
+    trimesh splits the block on `vertex` and cuts each piece at its first newline; that
     is one regular-expression capture per keyword as long as no line holds two keywords
     and the last one is followed by a newline.
     """

@@ -1,6 +1,6 @@
-"""Real-world meshes to closed, outward-oriented bodies (:func:`.pipeline.repair_mesh`).
+"""Real-world meshes to closed, outward-oriented bodies (`.pipeline.repair_mesh`).
 
-Stages: the edge graph (:mod:`.graph`), boundary loops (:mod:`.loops`), hole capping
-(:mod:`.holes`), winding numbers for containment (:mod:`.winding`) and boolean unions of
-overlapping bodies (:mod:`.union`).
+Stages: the edge graph (`.graph`), boundary loops (`.loops`), hole capping
+(`.holes`), winding numbers for containment (`.winding`) and boolean unions of
+overlapping bodies (`.union`).
 """

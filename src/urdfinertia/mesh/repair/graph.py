@@ -1,8 +1,8 @@
 """Topology of triangle meshes: vertex welding, edges, orientation and boundary loops.
 
 Vectorised with numpy and scipy's sparse graph routines (connected components run in C);
-no Python loop visits a triangle. A mesh here is a pair ``vertices (n, 3) float``,
-``faces (m, 3) int``.
+no Python loop visits a triangle. A mesh here is a pair `vertices (n, 3) float`,
+`faces (m, 3) int`.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from urdfinertia.inertia.polyhedron import cross_rows, used_vertices
 
 
 def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``np.unique(rows, axis=0, return_inverse=True, return_counts=True)``, fast.
+    """`np.unique(rows, axis=0, return_inverse=True, return_counts=True)`, fast.
 
     numpy's row-wise unique sorts a structured view element by element, which dominated
     repair time on real meshes; a lexicographic sort of the columns (or of one packed
@@ -45,7 +45,7 @@ _MIX = np.array([0xBF58476D1CE4E5B9, 0x94D049BB133111EB], dtype=np.uint64)
 
 def first_occurrences(rows: np.ndarray) -> np.ndarray:
     """Ascending indices of the first occurrence of each distinct float row (exact;
-    ``-0.0`` and ``0.0`` are one value): one sort of a 64-bit hash, checked row by row
+    `-0.0` and `0.0` are one value): one sort of a 64-bit hash, checked row by row
     (a collision falls back to the lexicographic sort)."""
     rows = np.asarray(rows, dtype=np.float64)
     if len(rows) == 0:
@@ -67,7 +67,7 @@ def first_occurrences(rows: np.ndarray) -> np.ndarray:
 
 
 def _row_keys(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(columns, key)``: the rows' columns as 64-bit patterns (``-0.0`` as ``0.0``) and
+    """`(columns, key)`: the rows' columns as 64-bit patterns (`-0.0` as `0.0`) and
     a 64-bit hash of each row (splitmix64's finaliser: float bits end in zeros, so they
     are mixed column by column)."""
     columns = np.ascontiguousarray((rows + 0.0).T).view(np.uint64)  # -0.0 + 0.0 is 0.0
@@ -82,13 +82,13 @@ def _row_keys(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return columns, key
 
 def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-    """:func:`unique_rows` of float rows by hashing their bits; None on a hash collision.
+    """`unique_rows` of float rows by hashing their bits; None on a hash collision.
 
     Equal rows are found by one sort of a hash (the top bits of a 64-bit one; then
     checked row by row, so a collision falls back to the lexicographic sort); only the
     distinct rows are sorted lexicographically. For an STL triangle soup, which repeats
     each vertex about six times, that is several times cheaper than sorting every row on
-    every column. The first occurrence of each row represents it (``-0.0`` and ``0.0``
+    every column. The first occurrence of each row represents it (`-0.0` and `0.0`
     are one value), as in the stable lexicographic sort.
     """
     columns, key = _row_keys(rows)
@@ -117,11 +117,11 @@ def _unique_float_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
 
 def _unique_keys(rows: np.ndarray, key: np.ndarray, order: np.ndarray | None = None,
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Groups of equal integer keys, as :func:`unique_rows` returns them.
+    """Groups of equal integer keys, as `unique_rows` returns them.
 
     Any member of a group represents it (its rows are equal), so one sort of the keys
-    (:func:`sort_order`, several times faster than the argsort ``np.unique`` uses) gives
-    the same answer. ``order`` is ``sort_order(key)`` when the caller has it already.
+    (`sort_order`, several times faster than the argsort `np.unique` uses) gives
+    the same answer. `order` is `sort_order(key)` when the caller has it already.
     """
     if order is None:
         order, ordered = _sorted_keys(key)
@@ -139,7 +139,7 @@ def _unique_keys(rows: np.ndarray, key: np.ndarray, order: np.ndarray | None = N
 
 
 def sort_order(key: np.ndarray) -> np.ndarray:
-    """``np.argsort(key, kind="stable")`` of non-negative integer keys, fast.
+    """`np.argsort(key, kind="stable")` of non-negative integer keys, fast.
 
     Where the keys leave room, each is packed with its position into one 64-bit word and
     the words are sorted by value (numpy's SIMD sort, several times faster than an
@@ -150,7 +150,7 @@ def sort_order(key: np.ndarray) -> np.ndarray:
 
 
 def _sorted_keys(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(sort_order(key), key[sort_order(key)])``, the second read back from the packed
+    """`(sort_order(key), key[sort_order(key)])`, the second read back from the packed
     words where they were packed."""
     n = len(key)
     if n == 0:
@@ -168,7 +168,7 @@ def _sorted_keys(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def components(n: int, a: np.ndarray, b: np.ndarray) -> tuple[int, np.ndarray]:
-    """Connected components of the undirected graph on ``n`` nodes with edges ``a[i]-b[i]``."""
+    """Connected components of the undirected graph on `n` nodes with edges `a[i]-b[i]`."""
     if n == 0:
         return 0, np.zeros(0, dtype=np.int64)
     # imported here: scipy.sparse costs ~0.25 s to import, which a warm (cached) run skips
@@ -183,7 +183,7 @@ def components(n: int, a: np.ndarray, b: np.ndarray) -> tuple[int, np.ndarray]:
 
 def weld_vertices(vertices: np.ndarray, faces: np.ndarray, tolerance: float,
                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Merge vertices closer than ``tolerance`` (chains merge transitively).
+    """Merge vertices closer than `tolerance` (chains merge transitively).
 
     Returns the used, merged vertices and the faces re-indexed into them.
     """
@@ -217,7 +217,7 @@ def weld_vertices(vertices: np.ndarray, faces: np.ndarray, tolerance: float,
 
 def drop_degenerate(vertices: np.ndarray, faces: np.ndarray, area_tol: float,
                     ) -> np.ndarray:
-    """Faces with three distinct vertices and an area above ``area_tol``."""
+    """Faces with three distinct vertices and an area above `area_tol`."""
     distinct = ((faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2])
                 & (faces[:, 0] != faces[:, 2]))
     tri = np.take(vertices, faces, axis=0)  # vertices[faces], a faster gather
@@ -257,18 +257,18 @@ def cancel_duplicate_faces(faces: np.ndarray) -> tuple[np.ndarray, int, int]:
 
 
 class EdgeTable(NamedTuple):
-    """Half-edges of a mesh grouped by undirected edge (:func:`edge_table`).
+    """Half-edges of a mesh grouped by undirected edge (`edge_table`).
 
     Attributes
     ----------
     edge_id : (3m,) int
-        Undirected edge of half-edge ``3 f + k`` (from corner k to k+1 of face f).
+        Undirected edge of half-edge `3 f + k` (from corner k to k+1 of face f).
     forward : (3m,) bool
         Whether the half-edge runs from the lower to the higher vertex index.
     edges : (e, 2) int
         The undirected edges, lower index first, ascending.
     order : (3m,) int
-        The half-edges grouped by edge: ``edge_id[order]`` is ascending (ascending
+        The half-edges grouped by edge: `edge_id[order]` is ascending (ascending
         half-edges within a group; no caller depends on that order).
     """
 
@@ -279,7 +279,7 @@ class EdgeTable(NamedTuple):
 
 
 def edge_table(faces: np.ndarray) -> EdgeTable:
-    """Half-edges of the faces grouped by undirected edge (see :class:`EdgeTable`)."""
+    """Half-edges of the faces grouped by undirected edge (see `EdgeTable`)."""
     tail = faces.reshape(-1)
     head = np.roll(faces, -1, axis=1).reshape(-1)
     lo, hi = np.minimum(tail, head), np.maximum(tail, head)
@@ -318,7 +318,7 @@ def consistent_orientation(faces: np.ndarray, table: EdgeTable | None = None,
         Orientation patch of each face (faces linked through two-sided edges).
     non_orientable : (m,) bool
 
-    ``table`` is ``edge_table(faces)`` when the caller has it already.
+    `table` is `edge_table(faces)` when the caller has it already.
     """
     m = len(faces)
     edge_id, forward, edges, order = table if table is not None else edge_table(faces)
@@ -347,7 +347,7 @@ def boundary_edges(faces: np.ndarray, table: EdgeTable | None = None) -> np.ndar
     Returns
     -------
     (b, 2) int
-        ``(tail, head)`` pairs.
+        `(tail, head)` pairs.
     """
     edge_id, forward, edges, _ = table if table is not None else edge_table(faces)
     net = np.bincount(edge_id, weights=np.where(forward, 1.0, -1.0),
@@ -362,7 +362,7 @@ def boundary_edges(faces: np.ndarray, table: EdgeTable | None = None) -> np.ndar
 
 def face_components(faces: np.ndarray, table: EdgeTable | None = None,
                     ) -> tuple[int, np.ndarray]:
-    """Components of faces linked through shared edges: ``(count, label per face)``.
+    """Components of faces linked through shared edges: `(count, label per face)`.
 
     Bodies that merely touch at a vertex, or cross without sharing an edge, stay apart.
     """
@@ -377,8 +377,8 @@ def face_components(faces: np.ndarray, table: EdgeTable | None = None,
 def is_closed_oriented(table: EdgeTable) -> bool:
     """Whether every edge has exactly two faces, running along it in opposite directions.
 
-    Such a surface needs no orientation fix and no hole caps: :func:`consistent_orientation`
-    flips nothing and its patches are the :func:`face_components`.
+    Such a surface needs no orientation fix and no hole caps: `consistent_orientation`
+    flips nothing and its patches are the `face_components`.
     """
     edge_id, forward, edges, _ = table
     if len(edge_id) != 2 * len(edges):
@@ -392,10 +392,10 @@ def split_vertices(n: int, faces: np.ndarray, label: np.ndarray, count: int,
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Give each labelled group of faces its own vertices.
 
-    The result equals ``np.unique(label[:, None] * n + faces, return_inverse=True)``
-    split by label: ``vertex`` lists each group's used vertices (group by group,
-    ascending within one), ``local`` re-indexes the faces into ``vertex`` and
-    ``bounds[c]:bounds[c + 1]`` is group c's slice of ``vertex``. Groups that share no
+    The result equals `np.unique(label[:, None] * n + faces, return_inverse=True)`
+    split by label: `vertex` lists each group's used vertices (group by group,
+    ascending within one), `local` re-indexes the faces into `vertex` and
+    `bounds[c]:bounds[c + 1]` is group c's slice of `vertex`. Groups that share no
     vertex (the usual case: edge-connected components) take a linear pass instead of
     a sort.
 

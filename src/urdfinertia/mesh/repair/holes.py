@@ -5,26 +5,26 @@ shared vertices. Capping every loop makes the surface closed, so the polyhedral 
 are well defined. Up to three caps are built per loop:
 
 * a fan about the loop's perimeter centroid (one new vertex);
-* for a simple loop of at most ``TRIANGULATE_MAX`` vertices, the triangulation of the
+* for a simple loop of at most `TRIANGULATE_MAX` vertices, the triangulation of the
   loop's own vertices that continues the surrounding surface best: dynamic programming
   over the polygon (as in Liepa 2003, "Filling holes in meshes"), minimising the angle
   between each cap triangle and the face across its rim edge. This restores a lost
   triangle pair across a sharp CAD edge, which a fan would cut off;
-* for a larger loop, a cap through the level set ``w = 1/2`` of the surface's
-  generalized winding number (:mod:`level_caps`), independent of the rim's
+* for a larger loop, a cap through the level set `w = 1/2` of the surface's
+  generalized winding number (`level_caps`), independent of the rim's
   triangulation; it is used where it meets the rim at a smaller angle than the fan.
   Its search costs (ring points x faces) per step, so it is skipped beyond
-  ``LEVEL_BUDGET``.
+  `LEVEL_BUDGET`.
 
 The triangulation is used where it exists. A planar loop is closed exactly by any of
 them (every planar cap on the same loop has the same flux integral) and states no error.
 Otherwise a loop's stated uncertainty is the larger of:
 
 * the spread of the candidate caps' volumes (how much the answer depends on the cap), and
-* the volume of a tent over the cap, continuing the rim faces at the angle ``theta``
-  at which the chosen cap meets them (length-weighted mean, at most ``TENT_MAX_ANGLE``):
-  ``A r tan(theta) / 2``, with ``A`` the cap's area and ``r = 2 A / P`` its half-width
-  (``P`` the loop's perimeter). A cap that continues the surface smoothly states little;
+* the volume of a tent over the cap, continuing the rim faces at the angle `theta`
+  at which the chosen cap meets them (length-weighted mean, at most `TENT_MAX_ANGLE`):
+  `A r tan(theta) / 2`, with `A` the cap's area and `r = 2 A / P` its half-width
+  (`P` the loop's perimeter). A cap that continues the surface smoothly states little;
   one that cuts across a lost corner or edge states about the volume that was lost.
 """
 
@@ -59,12 +59,12 @@ class HoleCaps:
     planar : (k,) bool
         Loops closed exactly (three edges, or planar within round-off).
     level : (k,) bool
-        Loops closed by a winding-number level cap (:mod:`level_caps`).
+        Loops closed by a winding-number level cap (`level_caps`).
     dependence : (k,) float
         m^3, how much the volume depends on the cap where there is a choice of caps
-        (triangulation against fan for loops of at most ``SHORT_LOOP_MAX`` edges), or a
+        (triangulation against fan for loops of at most `SHORT_LOOP_MAX` edges), or a
         spherical cap's volume over a larger loop at the fan's rim angle: the figure by
-        which two whole repairs of one mesh are compared (see ``pipeline``).
+        which two whole repairs of one mesh are compared (see `pipeline`).
     """
 
     vertex: np.ndarray
@@ -76,54 +76,80 @@ class HoleCaps:
 
     @classmethod
     def none(cls) -> HoleCaps:
+        """No caps.
+
+        Returns
+        -------
+        HoleCaps
+            Empty.
+        """
         return cls(np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0),
                    np.zeros(0, dtype=bool), np.zeros(0, dtype=bool), np.zeros(0))
 
     def subset(self, mask: np.ndarray) -> HoleCaps:
+        """The caps `mask` selects.
+
+        Parameters
+        ----------
+        mask : (n,) bool
+            One entry per cap.
+
+        Returns
+        -------
+        HoleCaps
+            Those caps.
+        """
         return HoleCaps(self.vertex[mask], self.area[mask], self.uncertainty[mask],
                         self.planar[mask], self.level[mask], self.dependence[mask])
 
     @property
     def loops(self) -> int:
+        """How many holes are capped."""
         return len(self.vertex)
 
     def widened(self) -> HoleCaps:
-        """These caps (fans) with ``dependence`` added to each uncertainty: what a refined
+        """These caps (fans) with `dependence` added to each uncertainty: what a refined
         cap, not computed, might have moved the volume (a spherical cap at the rim angle).
         """
         return HoleCaps(self.vertex, self.area, self.uncertainty + self.dependence,
                         self.planar, self.level, self.dependence)
 
 
-#: A loop is planar when no vertex leaves its plane by more than this fraction of its size.
 PLANAR_RTOL = 1e-9
-#: Largest simple loop (vertices) triangulated by dynamic programming (time and memory
-#: grow as its cube); larger ones get fans or level caps.
+"""A loop is planar when no vertex leaves its plane by more than this fraction of its size."""
 TRIANGULATE_MAX = 200
-#: Loops of at most this many edges are short: always triangulated (a few lost
-#: triangles), without a winding-number vote; longer ones are wide.
+"""Largest simple loop (vertices) triangulated by dynamic programming (time and memory grow as its
+cube); larger ones get fans or level caps.
+"""
 SHORT_LOOP_MAX = 40
-#: Candidate triangles (s^3 / 6 per loop of s edges) the programme may cost, per surface,
-#: for loops longer than ``SHORT_LOOP_MAX``: about seven loops of 150 edges. The loops left
-#: over get fans or level caps.
+"""Loops of at most this many edges are short: always triangulated (a few lost triangles), without a
+winding-number vote; longer ones are wide.
+"""
 WIDE_TRIANGULATION_BUDGET = 1_000_000
-#: Steepest rim continuation the tent of the stated uncertainty assumes (radians).
+"""Candidate triangles (s^3 / 6 per loop of s edges) the programme may cost, per surface, for loops
+longer than `SHORT_LOOP_MAX`: about seven loops of 150 edges. The loops left over get fans or
+level caps.
+"""
 TENT_MAX_ANGLE = np.radians(60.0)
-#: Grid points per axis, and the fewest disputed points, of the winding-number vote on a
-#: long loop's triangulation (:func:`_winding_refutes`).
+"""Steepest rim continuation the tent of the stated uncertainty assumes (radians)."""
 VOTE_GRID = 10
+"""Grid points per axis, and the fewest disputed points, of the winding-number vote on a long loop's
+triangulation (`_winding_refutes`).
+"""
 VOTE_MIN = 8
-#: Point-face pairs all votes on one surface may evaluate (~3 s at the limit).
 VOTE_BUDGET = 100_000_000
-#: Largest (ring points x faces) a surface's level caps may evaluate per search step
-#: (about 30 steps, ~0.1 s each at the limit); beyond it the fans stand (a large visual
-#: mesh with long open rims).
+"""Point-face pairs all votes on one surface may evaluate (~3 s at the limit)."""
 LEVEL_BUDGET = 2_000_000
-#: Loops of at least this many edges are also bounded by their fan's tent (smaller ones
-#: are a few lost triangles, which the triangulation restores).
+"""Largest (ring points x faces) a surface's level caps may evaluate per search step (about 30
+steps, ~0.1 s each at the limit); beyond it the fans stand (a large visual mesh with long open
+rims).
+"""
 FAN_TENT_MIN = 12
-#: A level cap replaces the fan only if it meets the rim at least this much flatter.
+"""Loops of at least this many edges are also bounded by their fan's tent (smaller ones are a few
+lost triangles, which the triangulation restores).
+"""
 LEVEL_MIN_GAIN = 1e-3
+"""A level cap replaces the fan only if it meets the rim at least this much flatter."""
 
 
 def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = True,
@@ -141,14 +167,14 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
     deadline : Deadline, optional
         Checked between the steps of triangulations, votes and level caps.
     table : EdgeTable, optional
-        Half-edges of ``faces`` grouped by edge, as :func:`~.graph.boundary_edges` reads
-        them (``edge_table(faces)``, or a table of the same edges whose half-edges run
-        as ``faces`` do), when the caller has it already.
+        Half-edges of `faces` grouped by edge, as `boundary_edges` reads
+        them (`edge_table(faces)`, or a table of the same edges whose half-edges run
+        as `faces` do), when the caller has it already.
 
     Raises
     ------
     OverBudget
-        ``deadline`` expired (the caller falls back to ``triangulate=False``).
+        `deadline` expired (the caller falls back to `triangulate=False`).
 
     Returns
     -------
@@ -270,16 +296,16 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray, triangulate: bool = Tru
 def _winding_refutes(vertices: np.ndarray, faces: np.ndarray, fan_f: np.ndarray,
                      fan_loop: np.ndarray, tri_f: np.ndarray, tri_loop: np.ndarray,
                      loops: np.ndarray, deadline: Deadline) -> np.ndarray:
-    """The loops among ``loops`` whose triangulation the winding numbers refute.
+    """The loops among `loops` whose triangulation the winding numbers refute.
 
-    Per loop, points on a ``VOTE_GRID``^3 grid over its bounding box (both caps lie in
+    Per loop, points on a `VOTE_GRID`^3 grid over its bounding box (both caps lie in
     the convex hull of its vertices) are classed inside or outside the surface closed by
     the loop's fan and by its triangulation. Where the two disagree, the generalized
     winding number of the surface without the loop's cap (every other loop fan-capped)
     says which side the open surface puts the point on. The triangulation is refuted
     when fewer than half of the disputed points side with it; with fewer than
-    ``VOTE_MIN`` disputed points the caps barely differ and it stands. Loops beyond
-    ``VOTE_BUDGET`` get no vote and are refuted: an unchecked long triangulation is not
+    `VOTE_MIN` disputed points the caps barely differ and it stands. Loops beyond
+    `VOTE_BUDGET` get no vote and are refuted: an unchecked long triangulation is not
     trusted.
     """
     closed = np.concatenate([faces, fan_f])
@@ -318,7 +344,7 @@ def _winding_refutes(vertices: np.ndarray, faces: np.ndarray, fan_f: np.ndarray,
 
 
 def cap_with_fans(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The surface of ``close_holes(vertices, faces, triangulate=False)``, without the
+    """The surface of `close_holes(vertices, faces, triangulate=False)`, without the
     statistics of its caps: a fan about every loop's perimeter centroid."""
     edges = boundary_edges(faces)
     if len(edges) == 0:
@@ -330,7 +356,7 @@ def cap_with_fans(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
 
 def _fans(vertices: np.ndarray, edges: np.ndarray, loop: np.ndarray, n_loops: int,
           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Fan caps about each loop's perimeter centroid (appended as vertex ``n + loop``)."""
+    """Fan caps about each loop's perimeter centroid (appended as vertex `n + loop`)."""
     a, b = vertices[edges[:, 0]], vertices[edges[:, 1]]
     length = np.linalg.norm(b - a, axis=1)
     mid = 0.5 * (a + b)
@@ -355,11 +381,11 @@ def _triangulations(vertices: np.ndarray, edges: np.ndarray, succ: np.ndarray,
                     loop: np.ndarray, rim_normal: np.ndarray, deadline: Deadline,
                     ) -> tuple[np.ndarray, np.ndarray]:
     """Best triangulation of each loop of 4..TRIANGULATE_MAX edges, the loops of more
-    than ``SHORT_LOOP_MAX`` edges smallest first within ``WIDE_TRIANGULATION_BUDGET``.
+    than `SHORT_LOOP_MAX` edges smallest first within `WIDE_TRIANGULATION_BUDGET`.
 
     Returns the cap faces and the loop of each. Loops of similar sizes are solved
-    together (:func:`~.triangulation.best_triangulations`: one step per interval width,
-    vectorised over intervals, splits and loops; :func:`~.triangulation.size_bands`).
+    together (`best_triangulations`: one step per interval width,
+    vectorised over intervals, splits and loops; `size_bands`).
     """
     groups: list[tuple[np.ndarray, np.ndarray]] = []  # (loop ids, rows of their edges)
     budget = WIDE_TRIANGULATION_BUDGET
@@ -405,16 +431,16 @@ class _Rim:
 
 
 def _slope(theta: np.ndarray) -> np.ndarray:
-    """Slope of a rim face continued over a cap it meets at ``theta`` (capped)."""
+    """Slope of a rim face continued over a cap it meets at `theta` (capped)."""
     return np.tan(np.minimum(theta, TENT_MAX_ANGLE))
 
 
 def _rim_mean(vertices: np.ndarray, caps: np.ndarray, cap_loop: np.ndarray, rim: _Rim,
               of: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
-    """Length-weighted mean of ``of(angle between cap and rim face)`` per loop.
+    """Length-weighted mean of `of(angle between cap and rim face)` per loop.
 
-    The cap face along boundary edge ``tail -> head`` runs ``head -> tail``. Loops
-    without a cap in ``caps`` get ``of(pi / 2)``.
+    The cap face along boundary edge `tail -> head` runs `head -> tail`. Loops
+    without a cap in `caps` get `of(pi / 2)`.
     """
     out = of(np.full(rim.loops, 0.5 * np.pi))
     if len(caps) == 0:
@@ -437,7 +463,7 @@ def _rim_normals(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
                  missing_ok: bool = False) -> np.ndarray:
     """Unit normal of a face running along each boundary edge (tail -> head).
 
-    With ``missing_ok``, an edge no face runs along gets a zero vector.
+    With `missing_ok`, an edge no face runs along gets a zero vector.
     """
     tail = faces.reshape(-1)
     head = np.roll(faces, -1, axis=1).reshape(-1)

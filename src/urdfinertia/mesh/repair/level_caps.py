@@ -1,17 +1,17 @@
 """Caps through the half level set of an open surface's generalized winding number.
 
-The generalized winding number ``w`` of an open surface (Jacobson et al.
+The generalized winding number `w` of an open surface (Jacobson et al.
 2013) is 1 deep inside and 0 far outside, and varies smoothly across a hole; its level
-set ``w = 1/2`` spans the hole without depending on how the hole's rim is triangulated.
+set `w = 1/2` spans the hole without depending on how the hole's rim is triangulated.
 For a planar hole it is the flat cap exactly (the cap subtends half the sphere from any
 point on it). For a non-planar one (a hole wrapping around an edge or a thin wall) it
 bulges the way the surrounding surface points, which a flat fan cannot.
 
 A cap is built per loop as rings between the loop's perimeter centroid and the loop
-(``RINGS - 1`` inner rings and an apex); each inner point is moved along the loop's mean
-normal to where ``w`` of the surface, with every other hole capped by its fan, crosses
+(`RINGS - 1` inner rings and an apex); each inner point is moved along the loop's mean
+normal to where `w` of the surface, with every other hole capped by its fan, crosses
 1/2 (bisection). The rim edges are the loop's own, so the capped surface stays closed.
-A point whose search finds no crossing, or only a jump of ``w`` (a wall of the surface
+A point whose search finds no crossing, or only a jump of `w` (a wall of the surface
 crossed, not the level set), stays on the fan.
 """
 
@@ -24,21 +24,24 @@ import numpy as np
 from urdfinertia.mesh.repair.winding import RayCounter, winding_numbers
 from urdfinertia.timing import Deadline
 
-#: Rings of a level cap, counting the loop itself; the apex is added.
 RINGS = 4
-#: Bisection steps of the search for ``w = 1/2`` along each point's normal line (the
-#: bracket shrinks to 2^-24 of its reach: about 1e-7 of the loop's radius).
+"""Rings of a level cap, counting the loop itself; the apex is added."""
 ITERATIONS = 24
-#: Search distances, as fractions of the loop's radius, tried in turn for a sign change.
+"""Bisection steps of the search for `w = 1/2` along each point's normal line (the bracket shrinks
+to 2^-24 of its reach: about 1e-7 of the loop's radius).
+"""
 REACH = (1 / 16, 1 / 8, 1 / 4, 1 / 2, 1.0)
-#: The search starts this fraction of the loop's radius outside the fan (off the fan's own
-#: faces, where counting along a ray would graze an edge).
+"""Search distances, as fractions of the loop's radius, tried in turn for a sign change."""
 START = 1e-4
-#: A point whose winding number is within this of 1/2 there stays on the fan.
+"""The search starts this fraction of the loop's radius outside the fan (off the fan's own faces,
+where counting along a ray would graze an edge).
+"""
 LEVEL_ATOL = 1e-6
-#: Change of ``w`` across the final bracket above which the crossing is a wall, not the
-#: level set (``w`` jumps by 1 through the surface and is continuous elsewhere).
+"""A point whose winding number is within this of 1/2 there stays on the fan."""
 JUMP = 0.25
+"""Change of `w` across the final bracket above which the crossing is a wall, not the level set
+(`w` jumps by 1 through the surface and is continuous elsewhere).
+"""
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,7 +54,7 @@ class LevelCaps:
         New vertices (inner rings and apexes), to be appended after the caller's.
     faces : (c, 3) int
         Cap faces; indices below the caller's vertex count are the loops' own vertices,
-        the others ``n + i`` for ``vertices[i]``.
+        the others `n + i` for `vertices[i]`.
     loop : (c,) int
         Loop of each face.
     """
@@ -62,7 +65,7 @@ class LevelCaps:
 
 
 def level_caps_points(sizes: np.ndarray) -> int:
-    """Points whose level the caps of loops of ``sizes`` edges search for."""
+    """Points whose level the caps of loops of `sizes` edges search for."""
     return int(np.sum((RINGS - 1) * sizes + 1))
 
 
@@ -70,7 +73,7 @@ def level_caps(n: int, corners: list[tuple[int, np.ndarray]], centre: np.ndarray
                normal: np.ndarray, closed_vertices: np.ndarray, closed_faces: np.ndarray,
                fan_faces: np.ndarray, fan_loop: np.ndarray,
                deadline: Deadline | None = None) -> LevelCaps:
-    """Level caps of the loops in ``corners``.
+    """Level caps of the loops in `corners`.
 
     Parameters
     ----------
@@ -84,9 +87,9 @@ def level_caps(n: int, corners: list[tuple[int, np.ndarray]], centre: np.ndarray
         The surface with every loop capped by its fan (so its winding numbers are
         integers, counted along rays).
     fan_faces : (f, 3) int
-        The fans, indexing ``closed_vertices``; ``fan_loop`` gives each one's loop.
+        The fans, indexing `closed_vertices`; `fan_loop` gives each one's loop.
     deadline : Deadline, optional
-        Checked before every search step (raises :class:`OverBudget`).
+        Checked before every search step (raises `OverBudget`).
     """
     points, owner, starts = [], [], [0]
     frac = np.arange(1, RINGS) / RINGS  # inner rings, innermost first
@@ -122,7 +125,7 @@ def _level_offsets(q: np.ndarray, lid: np.ndarray, corners: list[tuple[int, np.n
                    centre: np.ndarray, normal: np.ndarray, closed_vertices: np.ndarray,
                    closed_faces: np.ndarray, fan_faces: np.ndarray, fan_loop: np.ndarray,
                    deadline: Deadline) -> np.ndarray:
-    """Offset of each point along its loop's normal to ``w = 1/2`` (0 where not found)."""
+    """Offset of each point along its loop's normal to `w = 1/2` (0 where not found)."""
     radius = np.zeros(len(centre))
     for loop_id, ids in corners:
         radius[loop_id] = np.linalg.norm(closed_vertices[ids] - centre[loop_id], axis=1).max()
@@ -132,7 +135,7 @@ def _level_offsets(q: np.ndarray, lid: np.ndarray, corners: list[tuple[int, np.n
             for loop_id, _ in corners]
 
     def level(t: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
-        """``w - 1/2`` of the open surface (other holes fan-capped) at offsets ``t``."""
+        """`w - 1/2` of the open surface (other holes fan-capped) at offsets `t`."""
         deadline.check()
         sel = np.arange(len(q)) if rows is None else rows
         x = q[sel] + t[:, None] * nrm[sel]

@@ -26,13 +26,13 @@ def boundary_cycles(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
     faces : (m, 3) int
         Consistently oriented.
     edges : (b, 2) int
-        Boundary edges ``(tail, head)`` as the faces run along them.
+        Boundary edges `(tail, head)` as the faces run along them.
 
     Returns
     -------
     succ : (b,) int
     cycle : (b,) int
-        Cycle labels ``0 .. c-1``.
+        Cycle labels `0 .. c-1`.
     """
     n, b = len(vertices), len(edges)
     tail, head = edges[:, 0], edges[:, 1]
@@ -73,9 +73,9 @@ def boundary_cycles(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
 
 def ordered_cycles(succ: np.ndarray, cycle: np.ndarray, max_size: int,
                    ) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Edges of each cycle of at most ``max_size`` edges, in order.
+    """Edges of each cycle of at most `max_size` edges, in order.
 
-    Returns ``[(cycle ids (L,), edge indices (L, s))]``, one entry per cycle size ``s``.
+    Returns `[(cycle ids (L,), edge indices (L, s))]`, one entry per cycle size `s`.
     """
     n_cycles = int(cycle.max() + 1) if len(cycle) else 0
     size = np.bincount(cycle, minlength=n_cycles)

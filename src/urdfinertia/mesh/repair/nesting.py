@@ -1,6 +1,6 @@
 """Which closed surfaces lie inside which: cavities and solids nested in solids.
 
-Decided by winding numbers (:mod:`winding`) at one probe point per surface, so the
+Decided by winding numbers (`winding`) at one probe point per surface, so the
 answer does not depend on how the surfaces are triangulated.
 """
 
@@ -17,9 +17,9 @@ def nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
                 size: np.ndarray, given: np.ndarray, skip: np.ndarray) -> np.ndarray:
     """Wanted sign of each labelled closed surface's volume (+1 solid, -1 cavity).
 
-    A surface in no other is a solid. A nested one keeps its ``given`` orientation
+    A surface in no other is a solid. A nested one keeps its `given` orientation
     relative to its innermost container: opposite is a cavity, same is a solid.
-    Surfaces marked ``skip`` take part in nothing and get +1.
+    Surfaces marked `skip` take part in nothing and get +1.
     """
     k = len(size)
     final = np.ones(k)
@@ -52,7 +52,7 @@ def nest_signs(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
 
 
 def _probe_points(triangles: np.ndarray, bounds: np.ndarray) -> np.ndarray:
-    """:func:`probe_point` of each group ``triangles[bounds[i]:bounds[i + 1]]`` at once."""
+    """`probe_point` of each group `triangles[bounds[i]:bounds[i + 1]]` at once."""
     area = np.linalg.norm(cross_rows(triangles[:, 1] - triangles[:, 0],
                                    triangles[:, 2] - triangles[:, 0]), axis=1)
     best = np.maximum.reduceat(area, bounds[:-1])  # every group has triangles
@@ -62,7 +62,7 @@ def _probe_points(triangles: np.ndarray, bounds: np.ndarray) -> np.ndarray:
 
 
 def probe_point(triangles: np.ndarray) -> np.ndarray:
-    """The centroid of the largest of ``triangles``, for inside/outside tests."""
+    """The centroid of the largest of `triangles`, for inside/outside tests."""
     area = np.linalg.norm(cross_rows(triangles[:, 1] - triangles[:, 0],
                                    triangles[:, 2] - triangles[:, 0]), axis=1)
     return triangles[int(np.argmax(area))].mean(axis=0)

@@ -1,13 +1,13 @@
 """Turn a mesh file's triangles into closed, outward-oriented bodies, saying what it took.
 
-The stages, in order (each vectorised; see :mod:`meshgraph`, :mod:`holes`, :mod:`winding`):
+The stages, in order (each vectorised; see `meshgraph`, `holes`, `winding`):
 
 1. weld: merge exactly repeated vertices (STL triangle soup) and vertices closer than
-   ``WELD_RTOL`` of the mesh size (cracks between patches); drop degenerate triangles;
+   `WELD_RTOL` of the mesh size (cracks between patches); drop degenerate triangles;
    keep repeated triangles once, and cancel pairs of opposite ones (a shared inner wall);
 2. orient: make neighbouring faces agree across every two-sided edge (a patch is a set of
    faces linked that way);
-3. close: cap each patch's boundary loops (:func:`holes.close_holes`: triangulations,
+3. close: cap each patch's boundary loops (`holes.close_holes`: triangulations,
    fans or winding-number level caps), so every patch becomes a closed shell with a
    well-defined signed volume, each cap stating its uncertainty;
 4. turn outward: a shell nested in no other is turned to positive volume; a nested
@@ -50,12 +50,12 @@ from urdfinertia.mesh.repair.winding import closed_winding_numbers
 from urdfinertia.rules import Rule
 from urdfinertia.timing import Deadline, OverBudget, StageTimes
 
-#: Vertices closer than this fraction of the bounding-box diagonal are merged.
 WELD_RTOL = 1e-6
-#: A shell whose volume is below this fraction of (its area)^1.5 encloses nothing.
+"""Vertices closer than this fraction of the bounding-box diagonal are merged."""
 FLAT_RTOL = 1e-7
-#: Union results within this relative volume of the plain sum mean no overlap.
+"""A shell whose volume is below this fraction of (its area)^1.5 encloses nothing."""
 OVERLAP_RTOL = 1e-9
+"""Union results within this relative volume of the plain sum mean no overlap."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,7 +79,7 @@ class RepairedBody:
         "stitched", each followed by "; capped N holes (volume within ~x%)" where holes
         were capped, naming how many were closed by winding-number level surfaces.
     dependence : float
-        m^3, how much the volume depends on the choice of caps (``HoleCaps.dependence``)
+        m^3, how much the volume depends on the choice of caps (`HoleCaps.dependence`)
         plus what a stitch may have changed: the figure by which a stitched and an
         unstitched repair of the same mesh are compared.
     """
@@ -101,8 +101,8 @@ class RepairedMesh:
     notes: tuple[str, ...] = ()
 
 
-#: Signed volume and area of each labelled shell: ``(volume, area)``.
 _Measures = tuple[np.ndarray, np.ndarray]
+"""Signed volume and area of each labelled shell: `(volume, area)`."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,11 +117,11 @@ class _Shell:
 
 def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
                 seconds: float | None = -1.0) -> RepairedMesh:
-    """Weld, orient, close, turn outward and unite the bodies of ``mesh``.
+    """Weld, orient, close, turn outward and unite the bodies of `mesh`.
 
-    ``timer``, when given, gets the time spent in boolean unions as stage ``"union"``.
-    ``seconds`` is the time the refined hole caps may take (default
-    :func:`~urdfinertia.mesh.limits.mesh_seconds`, None for no limit); past it the holes
+    `timer`, when given, gets the time spent in boolean unions as stage `"union"`.
+    `seconds` is the time the refined hole caps may take (default
+    `mesh_seconds`, None for no limit); past it the holes
     are capped with fans, the stated error widened and a note says so.
 
     Raises
@@ -224,19 +224,20 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
 def _stated_error(repaired: RepairedMesh) -> float:
     """How much a repair's volume depends on its choices (m^3): what a stitched and an
     unstitched repair are compared by. Not the stated error bound (the tent of
-    :mod:`holes` bounds what a cap may miss, the same for both repairs' big holes)."""
+    `holes` bounds what a cap may miss, the same for both repairs' big holes)."""
     return sum(b.dependence for b in repaired.bodies)
 
 
-#: Relative round-off allowed between a repair's dependence summed before and after its
-#: unions (the union shares its bodies' dependence out and sums it again).
 BOUNDS_RTOL = 1e-9
+"""Relative round-off allowed between a repair's dependence summed before and after its unions (the
+union shares its bodies' dependence out and sums it again).
+"""
 
 
 @dataclass(frozen=True, eq=False)
 class _Closed:
     """A repair up to its unions (stages 2-4 and 6): its bodies before any union, and
-    what :func:`_finish` needs to unite them and state their provenance."""
+    what `_finish` needs to unite them and state their provenance."""
 
     bodies: list[RepairedBody]
     notes: list[str]
@@ -244,14 +245,14 @@ class _Closed:
     stitch_uncertainty: float
 
     def stated_error_bounds(self) -> tuple[float, float]:
-        """Bounds on :func:`_stated_error` of :func:`_finish`'s result, without the unions.
+        """Bounds on `_stated_error` of `_finish`'s result, without the unions.
 
         A union gives the bodies it unites their summed dependence, shared out among as
-        many bodies as it leaves, each also carrying ``stitch_uncertainty``: at least one
+        many bodies as it leaves, each also carrying `stitch_uncertainty`: at least one
         per group of bodies whose boxes overlap, at most one per body given (the upper
         bound is checked on the union's result by the caller). Bodies whose boxes overlap
         no other's keep theirs. The lower bound assumes a union leaves no body enclosing
-        no volume (:func:`drop_empty`; a degenerate union, not seen on the corpus). Exact
+        no volume (`drop_empty`; a degenerate union, not seen on the corpus). Exact
         when no box overlaps another.
         """
         u = self.stitch_uncertainty
@@ -286,13 +287,13 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str],
               deadline: Deadline, origin: str, stitch_uncertainty: float = 0.0,
               table: EdgeTable | None = None) -> _Closed:
     """Orient, cap, turn outward and group welded faces (stages 2-4 and 6); the union
-    (stage 5) is :func:`_finish`'s.
+    (stage 5) is `_finish`'s.
 
-    Past ``deadline`` the holes are capped with fans (:meth:`HoleCaps.widened`).
+    Past `deadline` the holes are capped with fans (`HoleCaps.widened`).
 
-    ``origin`` says how the surface was obtained before capping ("closed as given",
-    "welded", "stitched"); ``stitch_uncertainty`` (m^3) is what stitching may have
-    changed, added to every body's stated error. ``table`` is ``edge_table(faces)`` when
+    `origin` says how the surface was obtained before capping ("closed as given",
+    "welded", "stitched"); `stitch_uncertainty` (m^3) is what stitching may have
+    changed, added to every body's stated error. `table` is `edge_table(faces)` when
     the caller has it already.
     """
     notes = list(notes)
@@ -337,7 +338,7 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str],
 
 
 def _finish(closed: _Closed, timer: StageTimes) -> RepairedMesh:
-    """Unite the overlapping bodies of ``closed`` (stage 5) and state their provenance."""
+    """Unite the overlapping bodies of `closed` (stage 5) and state their provenance."""
     notes = list(closed.notes)
     bodies, union_note = _unite(closed.bodies, timer)
     if union_note:
@@ -350,8 +351,8 @@ def _finish(closed: _Closed, timer: StageTimes) -> RepairedMesh:
 
 
 def drop_empty(bodies: list[RepairedBody], notes: list[str]) -> list[RepairedBody]:
-    """``bodies`` without those enclosing no volume (a union can leave one: pybullet's
-    samurai monastery), noted; :class:`MeshError` when none is left."""
+    """`bodies` without those enclosing no volume (a union can leave one: pybullet's
+    samurai monastery), noted; `MeshError` when none is left."""
     kept = [b for b in bodies if _body_volume(b) != 0]
     if len(kept) < len(bodies):
         notes.append(f"ignored {len(bodies) - len(kept)} bodies enclosing no volume after "
@@ -363,7 +364,7 @@ def drop_empty(bodies: list[RepairedBody], notes: list[str]) -> list[RepairedBod
 
 
 def _with_origin(body: RepairedBody, origin: str, stitch_uncertainty: float) -> RepairedBody:
-    """``body`` with its provenance, and the stitch's uncertainty added to its error."""
+    """`body` with its provenance, and the stitch's uncertainty added to its error."""
     capped = body.provenance  # set by _body: "" or the caps' summary
     error, method = body.error_estimate, body.method
     if origin.startswith("stitched"):
@@ -403,14 +404,14 @@ def _orient(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable,
     solid-in-solid). Patches enclosing no volume (stray triangles, sheets) keep the
     orientation most of their input faces had, inverted if the largest patch was.
 
-    ``table`` is ``edge_table(faces)``. ``closed``, when every edge has two opposite
-    faces (:func:`is_closed_oriented`), is ``face_components(faces)``: then no face
+    `table` is `edge_table(faces)`. `closed`, when every edge has two opposite
+    faces (`is_closed_oriented`), is `face_components(faces)`: then no face
     flips, the patches are those components and each is closed already, so the private
     copies are skipped (they would hold the same coordinates, hence the same sums).
 
     Returns the oriented faces, which input faces were reversed, how many lie on
-    non-orientable patches, and, when ``closed`` is given and no patch was turned, the
-    patches' volumes and areas (which :func:`_split` would compute again).
+    non-orientable patches, and, when `closed` is given and no patch was turned, the
+    patches' volumes and areas (which `_split` would compute again).
     """
     if closed is not None:
         flip = np.zeros(len(faces), dtype=bool)
@@ -463,7 +464,7 @@ def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
            ) -> tuple[list[_Shell], int]:
     """Edge-connected closed shells; those enclosing no volume are counted and dropped.
 
-    ``known`` is ``face_components(faces)`` when the caller has it already, ``measures``
+    `known` is `face_components(faces)` when the caller has it already, `measures`
     each component's signed volume and area.
     """
     count, label = known if known is not None else face_components(faces)
@@ -491,13 +492,13 @@ def _split(vertices: np.ndarray, faces: np.ndarray, caps: HoleCaps,
 
 
 def _areas(tri: np.ndarray) -> np.ndarray:
-    """(m,) area of each triangle of ``tri`` (m, 3 corners, 3)."""
+    """(m,) area of each triangle of `tri` (m, 3 corners, 3)."""
     return 0.5 * np.linalg.norm(cross_rows(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
                                 axis=1)
 
 
 def _group(shells: list[_Shell]) -> tuple[list[tuple[int, list[int]]], int]:
-    """``[(outer shell, [its cavities])]`` and how many stray inverted shells were turned.
+    """`[(outer shell, [its cavities])]` and how many stray inverted shells were turned.
 
     A negative shell inside a positive one is a cavity of the smallest such container;
     one inside none is a body the wrong way round, turned outward.
@@ -610,13 +611,14 @@ def _unite(bodies: list[RepairedBody], timer: StageTimes,
     return rest + new, note
 
 
-#: :func:`_volume` of each body asked about, while the body lives: the stated bounds, the
-#: union and the provenance ask for the same bodies' volumes several times.
 _BODY_VOLUMES: weakref.WeakKeyDictionary[RepairedBody, float] = weakref.WeakKeyDictionary()
+"""`_volume` of each body asked about, while the body lives: the stated bounds, the union and
+the provenance ask for the same bodies' volumes several times.
+"""
 
 
 def _body_volume(body: RepairedBody) -> float:
-    """``_volume(body.vertices, body.faces)``, computed once per body (its arrays are not
+    """`_volume(body.vertices, body.faces)`, computed once per body (its arrays are not
     changed once it is made)."""
     volume = _BODY_VOLUMES.get(body)
     if volume is None:

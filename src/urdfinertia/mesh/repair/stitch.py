@@ -10,8 +10,8 @@ inserted into nearby boundary edges, whose face is split into a fan. Only bounda
 vertices and boundary edges take part: a closed body, however close to another, is
 never touched, so no stitch crosses a real gap between two bodies.
 
-The stated uncertainty bounds the volume the stitch changed: a vertex moved by ``d``
-sweeps at most ``d`` times a third of the area of its faces; an inserted vertex adds the
+The stated uncertainty bounds the volume the stitch changed: a vertex moved by `d`
+sweeps at most `d` times a third of the area of its faces; an inserted vertex adds the
 tetrahedron it forms with the split face. Which of two rims was the true surface is not
 in the file, so the slab between them (the cut's area times the gap) is added too.
 """
@@ -25,12 +25,12 @@ import numpy as np
 from urdfinertia.inertia.polyhedron import cross_rows
 from urdfinertia.mesh.repair.graph import EdgeTable, components, edge_table
 
-#: Stitch tolerance as a fraction of the bounding-box diagonal (seams of 1e-6 to 1e-4).
 STITCH_RTOL = 1e-3
-#: ... and at most this fraction of the median edge length, so no triangle collapses.
+"""Stitch tolerance as a fraction of the bounding-box diagonal (seams of 1e-6 to 1e-4)."""
 STITCH_EDGE_FRACTION = 0.25
-#: T-junction passes: a face has three edges, each split in its own pass.
+"""... and at most this fraction of the median edge length, so no triangle collapses."""
 SPLIT_PASSES = 3
+"""T-junction passes: a face has three edges, each split in its own pass."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,7 +55,7 @@ class Stitch:
         Boundary edges remain, or the stitch made edges shared by more than two faces:
         the caller should compare with the unstitched repair.
     table : EdgeTable
-        ``edge_table(faces)``, for the caller to reuse.
+        `edge_table(faces)`, for the caller to reuse.
     """
 
     vertices: np.ndarray
@@ -70,10 +70,24 @@ class Stitch:
     table: EdgeTable
 
     def provenance(self) -> str:
+        """One line for the solid's provenance.
+
+        Returns
+        -------
+        str
+            How many boundary vertices were stitched, and across what gaps.
+        """
         return (f"stitched {self.merged + self.inserted} boundary vertices "
                 f"(gaps up to {self.gap:.2g} m)")
 
     def note(self) -> str:
+        """The repair note of the stitch.
+
+        Returns
+        -------
+        str
+            What was merged, split and joined.
+        """
         what = []
         if self.merged:
             what.append(f"merged {self.merged} boundary vertices")
@@ -85,7 +99,7 @@ class Stitch:
 
 
 def stitch_tolerance(vertices: np.ndarray, faces: np.ndarray, size: float) -> float:
-    """The stitch distance: a fraction of the diagonal ``size``, and of the typical edge."""
+    """The stitch distance: a fraction of the diagonal `size`, and of the typical edge."""
     a, b = vertices[faces], np.roll(vertices[faces], -1, axis=1)
     median_edge = float(np.median(np.linalg.norm(b - a, axis=2)))
     return min(STITCH_RTOL * size, STITCH_EDGE_FRACTION * median_edge)
@@ -93,10 +107,10 @@ def stitch_tolerance(vertices: np.ndarray, faces: np.ndarray, size: float) -> fl
 
 def stitch_seams(vertices: np.ndarray, faces: np.ndarray, size: float,
                  table: EdgeTable | None = None) -> Stitch | None:
-    """Merge and insert boundary vertices within :func:`stitch_tolerance`; None if none.
+    """Merge and insert boundary vertices within `stitch_tolerance`; None if none.
 
-    ``faces`` need not be oriented: a boundary edge is an edge used by one face.
-    ``table`` is ``edge_table(faces)`` when the caller has it already.
+    `faces` need not be oriented: a boundary edge is an edge used by one face.
+    `table` is `edge_table(faces)` when the caller has it already.
     """
     table = table if table is not None else edge_table(faces)
     edges = _boundary(faces, table)
@@ -128,9 +142,9 @@ def stitch_seams(vertices: np.ndarray, faces: np.ndarray, size: float,
 
 
 def _boundary(faces: np.ndarray, table: EdgeTable) -> np.ndarray:
-    """Undirected edges used by exactly one face, and that face: (b, 3) ``(lo, hi, face)``.
+    """Undirected edges used by exactly one face, and that face: (b, 3) `(lo, hi, face)`.
 
-    ``table`` is ``edge_table(faces)``.
+    `table` is `edge_table(faces)`.
     """
     if len(faces) == 0:
         return np.zeros((0, 3), dtype=np.int64)
@@ -143,10 +157,10 @@ def _boundary(faces: np.ndarray, table: EdgeTable) -> np.ndarray:
 def _merge_boundary_vertices(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
                              tol: float, table: EdgeTable,
                              ) -> tuple[np.ndarray, np.ndarray, int, float, float]:
-    """Cluster boundary vertices within ``tol`` (not joined by an edge) at their mean.
+    """Cluster boundary vertices within `tol` (not joined by an edge) at their mean.
 
-    ``table`` is ``edge_table(faces)``. Returns vertices, faces (collapsed ones dropped;
-    ``faces`` itself when nothing merged), how many vertices merged, the largest distance
+    `table` is `edge_table(faces)`. Returns vertices, faces (collapsed ones dropped;
+    `faces` itself when nothing merged), how many vertices merged, the largest distance
     moved and the bound on the volume swept.
     """
     from scipy.spatial import cKDTree
@@ -200,12 +214,12 @@ def _star_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 def _split_t_junctions(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
                        tol: float) -> tuple[np.ndarray, int, float, float]:
-    """Insert boundary vertices lying within ``tol`` of a boundary edge into that edge.
+    """Insert boundary vertices lying within `tol` of a boundary edge into that edge.
 
-    The edge's face ``(u, w, c)`` becomes the fan ``(u, p1, c), ..., (pk, w, c)`` with
+    The edge's face `(u, w, c)` becomes the fan `(u, p1, c), ..., (pk, w, c)` with
     the points sorted along the edge; at most one edge per face is split per call.
     Returns the faces, how many vertices were inserted, the largest distance bridged and
-    the volume of the tetrahedra ``(u, p, w, c)`` added.
+    the volume of the tetrahedra `(u, p, w, c)` added.
     """
     from scipy.spatial import cKDTree
 

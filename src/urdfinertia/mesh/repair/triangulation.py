@@ -1,11 +1,11 @@
 """Minimum-cost triangulations of polygons whose edges continue a surface.
 
 The interval dynamic programme of Liepa (2003, "Filling holes in meshes") over the
-polygon's corners ``0 .. s-1``: the best triangulation of the interval ``(i, j)`` splits
-it at the corner ``k`` minimising ``cost(i, k) + cost(k, j) + triangle(i, k, j)``. It runs
-width by width (``j - i = 2 .. s-1``): all intervals of one width, all their splits and
+polygon's corners `0 .. s-1`: the best triangulation of the interval `(i, j)` splits
+it at the corner `k` minimising `cost(i, k) + cost(k, j) + triangle(i, k, j)`. It runs
+width by width (`j - i = 2 .. s-1`): all intervals of one width, all their splits and
 all polygons of one batch in a few vectorised operations on strided views of the cost
-table, so nothing of size ``s^3`` is ever held. Polygons of different sizes share a batch,
+table, so nothing of size `s^3` is ever held. Polygons of different sizes share a batch,
 padded to the largest: an interval of a polygon only ever reads its own sub-intervals, so
 the padding changes none of its costs. A triangle's cost is the angle between it and the
 surface face across each of its polygon edges, plus a small area term.
@@ -19,17 +19,20 @@ from __future__ import annotations
 
 import numpy as np
 
-#: Weight of a cap triangle's relative area against its rim angle (radians): a tie-break.
 AREA_WEIGHT = 1e-3
-#: Polygons of at most this many corners are solved all at once, however many there are
-#: (their widest step holds ``s^2 / 4`` candidates per polygon).
+"""Weight of a cap triangle's relative area against its rim angle (radians): a tie-break."""
 ALL_AT_ONCE_MAX = 40
-#: Candidate triangles per width step (polygons x intervals x splits) for larger
-#: polygons, to bound the temporaries.
+"""Polygons of at most this many corners are solved all at once, however many there are (their
+widest step holds `s^2 / 4` candidates per polygon).
+"""
 BATCH_CANDIDATES = 2_000_000
-#: The fixed cost of one width step, in candidate triangles: what padding smaller polygons
-#: to a larger size may spend to save steps (:func:`size_bands`).
+"""Candidate triangles per width step (polygons x intervals x splits) for larger polygons, to bound
+the temporaries.
+"""
 STEP_CANDIDATES = 4_000
+"""The fixed cost of one width step, in candidate triangles: what padding smaller polygons to a
+larger size may spend to save steps (`size_bands`).
+"""
 
 
 def best_triangulations(points: np.ndarray, rim: np.ndarray, sizes: np.ndarray,
@@ -39,18 +42,18 @@ def best_triangulations(points: np.ndarray, rim: np.ndarray, sizes: np.ndarray,
     Parameters
     ----------
     points : (L, s, 3) float
-        Polygon corners in the order the surface runs along its boundary; polygon ``p``
-        uses its first ``sizes[p]`` rows (the rest are padding, any finite values).
+        Polygon corners in the order the surface runs along its boundary; polygon `p`
+        uses its first `sizes[p]` rows (the rest are padding, any finite values).
     rim : (L, s, 3) float
-        Unit normal of the surface face along edge ``i -> i+1`` (``size-1 -> 0`` last).
+        Unit normal of the surface face along edge `i -> i+1` (`size-1 -> 0` last).
     sizes : (L,) int
         Corners of each polygon, 3 .. s.
 
     Returns
     -------
     triangles : (T, 3) int
-        Corner positions of each cap triangle ``(j, k, i)``, oriented against the
-        boundary: ``sizes[p] - 2`` per polygon, polygon by polygon, each in breadth-first
+        Corner positions of each cap triangle `(j, k, i)`, oriented against the
+        boundary: `sizes[p] - 2` per polygon, polygon by polygon, each in breadth-first
         order of its triangulation's tree.
     polygon : (T,) int
         The polygon of each triangle.
@@ -81,9 +84,9 @@ def best_triangulations(points: np.ndarray, rim: np.ndarray, sizes: np.ndarray,
 
 
 def size_bands(sizes: list[int], counts: list[int]) -> list[range]:
-    """Runs of consecutive groups (``counts[g]`` polygons of ``sizes[g]`` corners, sizes
+    """Runs of consecutive groups (`counts[g]` polygons of `sizes[g]` corners, sizes
     ascending) to solve as one padded batch: a group joins the run before it while
-    padding it costs less than the width steps it saves (``STEP_CANDIDATES`` each)."""
+    padding it costs less than the width steps it saves (`STEP_CANDIDATES` each)."""
     bands: list[range] = []
     first = 0
     for g in range(1, len(sizes) + 1):
@@ -105,7 +108,7 @@ def _work(sizes: list[int], counts: list[int]) -> float:
 
 
 def _choices(points: np.ndarray, rim: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """(L, s, s) best split ``k`` of each interval ``(i, j)``, ``j - i >= 2``."""
+    """(L, s, s) best split `k` of each interval `(i, j)`, `j - i >= 2`."""
     n_poly, s, _ = points.shape
     # each polygon's perimeter without its closing edge, summed as np.sum sums one row
     scale = np.empty(n_poly)
@@ -158,9 +161,9 @@ def _triangle_costs(p_i: list[np.ndarray], p_k: list[np.ndarray], p_j: list[np.n
                     area_scale: np.ndarray,
                     ) -> tuple[np.ndarray, list[np.ndarray], np.ndarray]:
     """Area term, normal (cross product) components and their norm of the candidate
-    triangles ``(j, k, i)``, from the corners' coordinates (one array per axis).
+    triangles `(j, k, i)`, from the corners' coordinates (one array per axis).
 
-    The arithmetic of ``np.cross(pk - pj, pi - pj)`` and ``np.linalg.norm`` per triangle,
+    The arithmetic of `np.cross(pk - pj, pi - pj)` and `np.linalg.norm` per triangle,
     component by component and in place (their sums of three run left to right).
     """
     a = [k - j for k, j in zip(p_k, p_j, strict=True)]
@@ -183,9 +186,9 @@ def _triangle_costs(p_i: list[np.ndarray], p_k: list[np.ndarray], p_j: list[np.n
 def _add_angle(cost: np.ndarray, cross: list[np.ndarray], norm: np.ndarray,
                area_scale: np.ndarray, at: tuple[slice | int | np.ndarray, ...],
                rim: np.ndarray) -> None:
-    """Add to the candidates ``cost[at]`` the angle between each triangle and the rim
-    face (unit normals ``rim``, broadcast to ``cost[at]`` plus an axis) across its edge;
-    pi for a degenerate triangle. ``area_scale`` broadcasts to ``cost[at]``."""
+    """Add to the candidates `cost[at]` the angle between each triangle and the rim
+    face (unit normals `rim`, broadcast to `cost[at]` plus an axis) across its edge;
+    pi for a degenerate triangle. `area_scale` broadcasts to `cost[at]`."""
     n = norm[at]
     den = np.maximum(n, 1e-300)
     cos = (cross[0][at] / den * rim[..., 0] + cross[1][at] / den * rim[..., 1]
@@ -197,7 +200,7 @@ def _add_angle(cost: np.ndarray, cross: list[np.ndarray], norm: np.ndarray,
 
 def _view(base: np.ndarray, offset: int, shape: tuple[int, ...],
           strides: tuple[int, ...]) -> np.ndarray:
-    """A read-only strided view into the contiguous array ``base`` (``as_strided``
+    """A read-only strided view into the contiguous array `base` (`as_strided`
     without its overhead, which the programme's many small steps would feel)."""
     view = np.ndarray(shape, base.dtype, buffer=base, offset=offset, strides=strides)
     view.flags.writeable = False
@@ -205,7 +208,7 @@ def _view(base: np.ndarray, offset: int, shape: tuple[int, ...],
 
 
 def _unfold(choice: np.ndarray, sizes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Triangles ``(j, k, i)`` of the chosen splits and their polygons, polygon by
+    """Triangles `(j, k, i)` of the chosen splits and their polygons, polygon by
     polygon, breadth-first: every interval of width >= 2 yields one triangle."""
     n_poly = len(choice)
     poly = np.arange(n_poly)

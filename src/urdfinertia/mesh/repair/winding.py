@@ -4,10 +4,10 @@ The winding number of an oriented triangle surface at a point is the sum of
 the signed solid angles its triangles subtend there, divided by 4 pi: 1 inside and 0
 outside a closed outward surface, -1 inside an inverted one, and a smooth value between
 for an open surface. It decides whether one closed shell lies inside another (cavities,
-nested bodies) independently of how the mesh is triangulated. :func:`winding_numbers`
-is libigl's compiled sum when libigl is installed (the ``fast`` extra), else
-:func:`solid_angle_winding_numbers`, the plain numpy sum it agrees with to round-off.
-For closed surfaces, :func:`closed_winding_numbers` gets the same integers by counting
+nested bodies) independently of how the mesh is triangulated. `winding_numbers`
+is libigl's compiled sum when libigl is installed (the `fast` extra), else
+`solid_angle_winding_numbers`, the plain numpy sum it agrees with to round-off.
+For closed surfaces, `closed_winding_numbers` gets the same integers by counting
 ray crossings, at a fraction of the cost, and falls back to the solid angles where a ray
 grazes an edge.
 """
@@ -23,15 +23,16 @@ from numpy.typing import ArrayLike
 
 from urdfinertia.mesh.repair.graph import sort_order
 
-#: Query points x triangles evaluated per chunk (bounds the temporary arrays to ~100 MB).
 CHUNK = 1_000_000
+"""Query points x triangles evaluated per chunk (bounds the temporary arrays to ~100 MB)."""
 
 
 def solid_angles(points: ArrayLike, triangles: ArrayLike) -> np.ndarray:
     """Signed solid angle of each triangle seen from each point.
 
-    Van Oosterom & Strackee (1983): ``tan(omega / 2) = a.(b x c) / (|a||b||c| + (a.b)|c|
-    + (b.c)|a| + (c.a)|b|)`` with ``a, b, c`` the corners relative to the point.
+    Van Oosterom & Strackee (1983):
+    `tan(omega / 2) = a.(b x c) / (|a||b||c| + (a.b)|c| + (b.c)|a| + (c.a)|b|)` with `a, b, c`
+    the corners relative to the point.
 
     Parameters
     ----------
@@ -62,12 +63,12 @@ def solid_angles(points: ArrayLike, triangles: ArrayLike) -> np.ndarray:
 
 
 def winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayLike) -> np.ndarray:
-    """Generalized winding number of the surface ``(vertices, faces)`` at each point.
+    """Generalized winding number of the surface `(vertices, faces)` at each point.
 
-    Computed by libigl when it is installed (``pip install 'urdfinertia[fast]'``;
-    ``igl.winding_number``: the same sum of solid angles, over a bounding-volume hierarchy
+    Computed by libigl when it is installed (`pip install 'urdfinertia[fast]'`;
+    `igl.winding_number`: the same sum of solid angles, over a bounding-volume hierarchy
     that replaces a far cluster by its boundary's closure), else by
-    :func:`solid_angle_winding_numbers`, the plain numpy sum; the two agree to round-off.
+    `solid_angle_winding_numbers`, the plain numpy sum; the two agree to round-off.
 
     Parameters
     ----------
@@ -115,7 +116,7 @@ def compiled() -> Any:
 
 def solid_angle_winding_numbers(points: ArrayLike, vertices: ArrayLike,
                                 faces: ArrayLike) -> np.ndarray:
-    """:func:`winding_numbers` as a plain sum of :func:`solid_angles` (pure numpy).
+    """`winding_numbers` as a plain sum of `solid_angles` (pure numpy).
 
     Quadratic in points x faces: the reference the compiled one is tested against.
     """
@@ -130,9 +131,10 @@ def solid_angle_winding_numbers(points: ArrayLike, vertices: ArrayLike,
     return out / (4.0 * np.pi)
 
 
-#: Relative round-off within which a ray is taken to graze an edge, or a point to lie on
-#: the surface (:func:`closed_winding_numbers` then asks :func:`winding_numbers`).
 RAY_RTOL = 1e-9
+"""Relative round-off within which a ray is taken to graze an edge, or a point to lie on the surface
+(`closed_winding_numbers` then asks `winding_numbers`).
+"""
 
 
 def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayLike,
@@ -140,14 +142,14 @@ def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayL
     """Winding numbers of a closed surface, counted along rays, with the same values.
 
     For a closed surface (every edge used equally often in each direction) the winding
-    number at a point off the surface is the integer :func:`winding_numbers` computes,
+    number at a point off the surface is the integer `winding_numbers` computes,
     and also the signed count of crossings of any ray from the point: +1 where the ray
     leaves through a face whose normal points along it, -1 where it enters. Counting
-    along ``RAY`` needs only the few faces whose bounding box the ray meets (found through
-    a grid across the ray, :class:`RayCounter`) and no transcendental functions; an
+    along `RAY` needs only the few faces whose bounding box the ray meets (found through
+    a grid across the ray, `RayCounter`) and no transcendental functions; an
     oblique ray rarely grazes the edges of CAD models, whose faces often lie parallel to
     the axes. A point whose ray grazes an edge or vertex, or which lies on a face, within
-    ``RAY_RTOL``, is evaluated with :func:`winding_numbers` instead.
+    `RAY_RTOL`, is evaluated with `winding_numbers` instead.
 
     Parameters
     ----------
@@ -157,19 +159,19 @@ def closed_winding_numbers(points: ArrayLike, vertices: ArrayLike, faces: ArrayL
         A closed surface.
     exact_on_graze : bool
         False counts grazing rays as they fall instead of asking
-        :func:`winding_numbers`: a point on or next to the surface may then be off by
+        `winding_numbers`: a point on or next to the surface may then be off by
         one, for callers that search along lines and reject such points anyway.
 
     Returns
     -------
     (p,) float
-        Integers, except at points handed to :func:`winding_numbers`.
+        Integers, except at points handed to `winding_numbers`.
     """
     return RayCounter(vertices, faces)(points, exact_on_graze)
 
 
 class RayCounter:
-    """:func:`closed_winding_numbers` of one closed surface, for many calls.
+    """`closed_winding_numbers` of one closed surface, for many calls.
 
     The surface is turned once into the ray's frame and its faces binned once on a grid
     across the ray (the faces' boxes, widened by the grazing slack, over the cells they
@@ -200,10 +202,10 @@ class RayCounter:
 
     def __call__(self, points: ArrayLike, exact_on_graze: bool = True,
                  only: np.ndarray | None = None) -> np.ndarray:
-        """Winding numbers at ``points`` (p, 3); with ``only`` (p,) bool, at those
+        """Winding numbers at `points` (p, 3); with `only` (p,) bool, at those
         points only (0 elsewhere), with the counts a call on all of them gives (the
         grazing slack still scales with the extent of all the points; the values of
-        grazing points handed to :func:`winding_numbers` agree to round-off)."""
+        grazing points handed to `winding_numbers` agree to round-off)."""
         pts_all = np.asarray(points, dtype=np.float64).reshape(-1, 3)
         out = np.zeros(len(pts_all))
         if len(self.faces) == 0 or len(pts_all) == 0:
@@ -222,7 +224,7 @@ class RayCounter:
 
     def _count(self, pts: np.ndarray, pts_all: np.ndarray, slack: float,
                exact_on_graze: bool) -> np.ndarray:
-        """The counts at ``pts`` (in the ray's frame; ``pts_all`` as given)."""
+        """The counts at `pts` (in the ray's frame; `pts_all` as given)."""
         out = np.zeros(len(pts))
         tri = self.tri
         unsure = np.zeros(len(pts), dtype=bool)
@@ -253,9 +255,9 @@ class RayCounter:
 
     def _pairs(self, pts: np.ndarray, slack: float,
                ) -> Iterator[tuple[int, int, np.ndarray, np.ndarray]]:
-        """Chunks ``(first, last, point, face)`` of the pairs whose boxes the rays meet.
+        """Chunks `(first, last, point, face)` of the pairs whose boxes the rays meet.
 
-        Points ``first:last`` of a chunk, ``point`` indexing into the chunk. From the
+        Points `first:last` of a chunk, `point` indexing into the chunk. From the
         grid's candidates, or from every face where the grid would hand each point a
         large share of them anyway (long faces across the ray): the plain test is then
         cheaper per pair.
@@ -304,9 +306,9 @@ class RayCounter:
 
     def _grid(self, slack: float, pts: np.ndarray,
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Each point's cell, and per cell the start and count of its faces in ``order``.
+        """Each point's cell, and per cell the start and count of its faces in `order`.
 
-        A face is listed in every cell its yz-box, widened by at least ``slack``,
+        A face is listed in every cell its yz-box, widened by at least `slack`,
         overlaps; points and faces beyond the grid fall in its edge cells, so a face
         whose box may contain a point's yz is always listed in the point's cell. The grid
         is kept for later calls whose slack is no wider.
@@ -318,8 +320,8 @@ class RayCounter:
         return pc[:, 0] * int(side) + pc[:, 1], start, count, order
 
     def _bins(self, slack: float) -> tuple[np.ndarray, ...]:
-        """The grid of :meth:`_grid`: origin, cell size, cells per side, and per cell the
-        start and count of its faces in ``order``."""
+        """The grid of `_grid`: origin, cell size, cells per side, and per cell the
+        start and count of its faces in `order`."""
         lo = self.lo[:, 1:] - slack
         hi = self.hi[:, 1:] + slack
         origin = lo.min(axis=0)
@@ -350,17 +352,18 @@ class RayCounter:
         return origin, np.asarray(h), np.asarray(side), start, count, order
 
 
-#: Fewest points for which the grid is built (fewer are tested against every face).
 GRID_MIN_POINTS = 64
-#: Point-face pairs below which every face is tested, without building the grid.
+"""Fewest points for which the grid is built (fewer are tested against every face)."""
 BRUTE_PAIRS = 200_000
-#: Most grid cells per axis across the ray (:class:`RayCounter`).
+"""Point-face pairs below which every face is tested, without building the grid."""
 GRID_MAX = 512
-#: Share of all point-face pairs beyond which the grid's candidates are not worth
-#: gathering (:meth:`RayCounter._pairs`).
+"""Most grid cells per axis across the ray (`RayCounter`)."""
 GRID_SHARE = 0.2
-#: Largest average number of cells a face may be listed in before the grid is coarsened.
+"""Share of all point-face pairs beyond which the grid's candidates are not worth gathering
+(`RayCounter._pairs`).
+"""
 GRID_COPIES = 8
+"""Largest average number of cells a face may be listed in before the grid is coarsened."""
 
 
 def _ray_frame() -> np.ndarray:
@@ -371,6 +374,6 @@ def _ray_frame() -> np.ndarray:
     return np.stack([ray, across, np.cross(ray, across)])
 
 
-#: Direction of the rays of :func:`closed_winding_numbers`: oblique to every axis.
 RAY = np.array([0.8191520442889918, 0.4924038765061041, 0.2940315329861220])
+"""Direction of the rays of `closed_winding_numbers`: oblique to every axis."""
 _RAY_FRAME = _ray_frame()
