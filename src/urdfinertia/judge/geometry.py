@@ -143,7 +143,7 @@ def judge_geometry(ev: LinkEvidence) -> GeometryJudgement:
         body = _most_faithful(kept)
         out.extend(flags[id(body)])
     density = raw.mass / body.volume
-    judged = GeometryJudgement(tuple(out), body, _solid(body, bounds), bounds, density)
+    judged = GeometryJudgement(tuple(out), body, candidate_solid(body, bounds), bounds, density)
     return _not_the_body(ev, raw, judged)
 
 
@@ -159,7 +159,7 @@ def _set_aside(ev: LinkEvidence, c: Candidate, why: str) -> Finding:
                    c.refs[0].line if c.refs else None, c.role)
 
 
-def _solid(c: Candidate, bounds: Bounds) -> Solid | None:
+def candidate_solid(c: Candidate, bounds: Bounds) -> Solid | None:
     """``c`` as a homogeneous solid of unit mass (None: its parts do not combine)."""
     try:
         unit = assemble(c.parts, MassSource("kept", 1.0)).total

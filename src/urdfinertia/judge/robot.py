@@ -37,7 +37,12 @@ from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.slips import Proposal, Solid, Written, rank_edits
 from urdfinertia.judge.closed_form import closed_form_factor, closed_form_finding
 from urdfinertia.judge.conventions import Convention, infer_conventions
-from urdfinertia.judge.geometry import AGAINST_CANDIDATE, GeometryJudgement, judge_geometry
+from urdfinertia.judge.geometry import (
+    AGAINST_CANDIDATE,
+    GeometryJudgement,
+    candidate_solid,
+    judge_geometry,
+)
 from urdfinertia.judge.slips import LIMITS, SlipProposal, find_slip, finite_written
 from urdfinertia.judge.twins import bodies_of, copy_findings, twin_findings, twin_names
 from urdfinertia.judge.values import value_findings
@@ -311,7 +316,21 @@ def _copies_and_twins(evidence: RobotEvidence, per: dict[str, LinkJudgement],
             return None
         return j.geometry.solid
 
-    bodies = bodies_of(robot, solid_of)
+    def roles_of(link):  # noqa: ANN001, ANN202
+        ev = evidence.links[link.name]
+        bounds = ev.bounds
+        out = {}
+        if bounds is None:
+            return out
+        for role, _ in ev.roles:
+            c = ev.candidate(role)
+            if c is not None and not c.dropped:
+                solid = candidate_solid(c, bounds)
+                if solid is not None:
+                    out[role] = solid
+        return out
+
+    bodies = bodies_of(robot, solid_of, roles_of)
     out = dict(per)
     for found, source in copy_findings(bodies):
         name = found.link
@@ -329,13 +348,13 @@ def _copies_and_twins(evidence: RobotEvidence, per: dict[str, LinkJudgement],
 
 
 def _key(ev: LinkEvidence) -> tuple | None:
-    """What makes two links' written inertials identical up to a mirror: the mass, the
-    diagonal and the products' magnitudes, the CoM's magnitudes (None: nothing written)."""
+    """What makes two links' written inertials identical: every value, as written (None:
+    nothing written). Mirror twins differ in signs: they are judged each on its own."""
     i = ev.link.inertial
     if i is None:
         return None
-    return (i.mass, i.ixx, i.iyy, i.izz, abs(i.ixy), abs(i.ixz), abs(i.iyz),
-            tuple(sorted(abs(v) for v in i.origin.xyz)))
+    return (i.mass, i.ixx, i.iyy, i.izz, i.ixy, i.ixz, i.iyz, tuple(i.origin.xyz),
+            tuple(i.origin.rpy))
 
 
 def _identical(evidence: RobotEvidence, per: dict[str, LinkJudgement],
@@ -357,7 +376,8 @@ def _identical(evidence: RobotEvidence, per: dict[str, LinkJudgement],
         for group in _by_geometry(names, per):
             if len(group) < 2:
                 continue
-            agree = [n for n in group if not per[n].rules & _GEOMETRIC and per[n].slip is None]
+            agree = [n for n in group if not per[n].rules & (_GEOMETRIC | _INVALID)
+                     and per[n].slip is None]
             if agree and len(agree) < len(group):
                 for n in group:
                     if n not in agree and not per[n].rules & _INVALID:
@@ -392,8 +412,9 @@ def _nan(x: float) -> bool:
 
 
 def _by_geometry(names: list[str], per: Mapping[str, LinkJudgement]) -> list[list[str]]:
-    """``names`` split where their bodies' geometry differs (volume or box extents by more
-    than 5 %); links with no body each stand alone."""
+    """``names`` split where their bodies' geometry differs (volume, or a corner of the box
+    in the link frame, by more than 5 % of the box's size): identical values over the same
+    geometry in the same place; links with no body each stand alone."""
     out: list[list[str]] = []
     for name in names:
         body = per[name].geometry.body
@@ -401,8 +422,8 @@ def _by_geometry(names: list[str], per: Mapping[str, LinkJudgement]) -> list[lis
         for group in out:
             other = _signature(per[group[0]].geometry)
             if body is not None and other is not None and sig is not None \
-                    and np.all(np.abs(sig - other) <= 0.05 * np.maximum(np.abs(sig),
-                                                                        np.abs(other))):
+                    and abs(sig[0] - other[0]) <= 0.05 * max(sig[0], other[0]) \
+                    and np.all(np.abs(sig[1:] - other[1:]) <= 0.05):
                 group.append(name)
                 break
         else:
@@ -413,8 +434,10 @@ def _by_geometry(names: list[str], per: Mapping[str, LinkJudgement]) -> list[lis
 def _signature(g: GeometryJudgement) -> np.ndarray | None:
     if g.body is None or g.bounds is None:
         return None
-    lo, hi = g.bounds
-    return np.concatenate(([g.body.volume], np.sort(np.asarray(hi) - np.asarray(lo))))
+    lo, hi = np.asarray(g.bounds[0]), np.asarray(g.bounds[1])
+    size = float(np.linalg.norm(hi - lo))
+    return np.concatenate(([g.body.volume ** (1 / 3)], lo / size if size else lo,
+                           hi / size if size else hi))
 
 
 def _witnessed(evidence: RobotEvidence, j: LinkJudgement, per: Mapping[str, LinkJudgement],

@@ -71,9 +71,23 @@ class _Body:
     written: Written
     #: the geometry's solid, read when first asked for (most links are in no pair)
     read: Callable[[Link], Solid | None]
+    #: the solid of each of the link's geometry roles ("collision", "visual", "geom"), read
+    #: when first asked for: a copy is told by geometry that differs in every role
+    roles: Callable[[Link], dict[str, Solid]] | None = None
     _solid: Solid | None = None
     _done: bool = False
     _scored: Scored | None = None
+    _roles: dict[str, Solid] | None = None
+
+    def role_solids(self) -> dict[str, Solid]:
+        if self._roles is None:
+            self._roles = self.roles(self.link) if self.roles is not None else (
+                {"body": self.solid} if self.solid is not None else {})
+        return self._roles
+
+    def fit_in(self, solid: Solid) -> float:
+        """The written inertial's score against ``solid`` (lower: agrees better)."""
+        return score_edit(no_edit(self.written), solid, LIMITS).score
 
     @property
     def solid(self) -> Solid | None:
@@ -117,8 +131,11 @@ def twin_names(name: str) -> list[str]:
     return [n for n in dict.fromkeys(out) if n != name]
 
 
-def bodies_of(robot: Robot, solid_of: Callable[[Link], Solid | None]) -> dict[str, _Body]:
-    """The links with a finite written inertial, each with its solid read on demand."""
+def bodies_of(robot: Robot, solid_of: Callable[[Link], Solid | None],
+              roles_of: Callable[[Link], dict[str, Solid]] | None = None,
+              ) -> dict[str, _Body]:
+    """The links with a finite written inertial, each with its solid (and the solid of
+    each of its geometry roles) read on demand."""
     bodies: dict[str, _Body] = {}
     for link in robot.links:
         w = written_of(link)
@@ -129,7 +146,7 @@ def bodies_of(robot: Robot, solid_of: Callable[[Link], Solid | None]) -> dict[st
             if not (raw.mass_ok and raw.com_ok) or not np.all(np.isfinite(w.entries)) \
                     or not np.all(np.isfinite(raw.inertia)):
                 continue
-        bodies[link.name] = _Body(link, raw, w, solid_of)
+        bodies[link.name] = _Body(link, raw, w, solid_of, roles_of)
     return bodies
 
 
@@ -195,8 +212,7 @@ def _copies(bodies: dict[str, _Body]) -> list[tuple[Finding, str]]:
         for n in with_geometry:
             b = bodies[n]
             assert b.solid is not None
-            if n == source or not _differ(b.solid, src.solid, GEOMETRY_DIFFERS) \
-                    or fits[n] - fits[source] < COPY_MARGIN:
+            if n == source or not _copied(b, src):
                 continue
             how = _same(b, src)
             out.append((Finding(Rule.INERTIAL_COPIED, n, (
@@ -206,6 +222,23 @@ def _copies(bodies: dict[str, _Body]) -> list[tuple[Finding, str]]:
                 f"copied from {source}?"), b.link.inertial.line if b.link.inertial else None,
                 "inertial"), source))
     return out
+
+
+def _copied(b: _Body, src: _Body) -> bool:
+    """``b``'s inertial, equal to ``src``'s, was copied from it: in every geometry role both
+    links have, their geometries differ and ``b`` fits its own clearly worse than ``src``
+    fits its own (front and rear legs sharing one CAD part share their geometry too, in
+    one role at least: no copy)."""
+    mine, theirs = b.role_solids(), src.role_solids()
+    common = [r for r in mine if r in theirs]
+    if not common:
+        return False
+    for role in common:
+        if not _differ(mine[role], theirs[role], GEOMETRY_DIFFERS):
+            return False
+        if b.fit_in(mine[role]) - src.fit_in(theirs[role]) < COPY_MARGIN:
+            return False
+    return True
 
 
 def _twins(bodies: dict[str, _Body]) -> list[Finding]:
