@@ -17,14 +17,18 @@ mass. Every difference beyond round-off (the converters write float32) is named:
   that is no body of the converted asset; ``extra``: a converted body with mass that the
   source does not have.
 
-Links are matched by name, then by the name made a valid identifier (what USD prim names
-must be: ``link-1`` becomes ``link_1``).
+- ``mass-only``: the converted body states its mass and no tensor (a UsdPhysics MassAPI
+  with ``physics:mass`` alone, valid: the engine derives CoM and tensor from the colliders
+  at that mass); the mass counts in the converted total.
+
+Links are matched by name as converters rename them (:mod:`urdfinertia.analysis.matching`:
+``link_3.0`` becomes ``link_3_0``, prefixes and paths are dropped); every link left
+unmatched on either side is listed.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -32,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from urdfinertia.analysis.compare import principal_axis_angle
+from urdfinertia.analysis.matching import Matching, match_names
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.model import Link, Robot
 from urdfinertia.errors import UrdfInertiaError
@@ -45,7 +50,7 @@ ENGINE_DENSITY = 1000.0
 #: how close a mass must be to volume x density to be called density-derived
 DERIVED_RTOL = 1e-3
 KINDS = ("dropped", "density-derived", "defaulted", "frame-change", "mass", "com",
-         "inertia", "missing", "extra")
+         "inertia", "mass-only", "missing", "extra")
 
 
 @dataclass(frozen=True)
@@ -58,8 +63,12 @@ class Side:
 
     @classmethod
     def of(cls, link: Link | None) -> Side:
-        if link is None or link.inertial is None:
+        if link is None:
             return cls(None, None, None)
+        if link.inertial is None:
+            implicit = link.implicit
+            mass = implicit.mass if implicit is not None else None
+            return cls(mass, None, None)
         i = link.inertial
         return cls(float(i.mass), np.asarray(i.origin.xyz, dtype=np.float64),
                    i.tensor_in_link())
@@ -77,6 +86,7 @@ class AgainstReport:
     source: Path
     converted: Path
     links: list[tuple[str, Side, Side]] = field(default_factory=list)
+    matching: Matching | None = None
     differences: list[Difference] = field(default_factory=list)
     total_source: float = 0.0
     total_converted: float = 0.0
@@ -93,12 +103,11 @@ class AgainstReport:
                                "engine": self.total_engine},
                 "links": [{"link": n, "source": side(a), "converted": side(b)}
                           for n, a, b in self.links],
-                "differences": [vars(d) for d in self.differences]}
-
-
-def identifier(name: str) -> str:
-    out = re.sub(r"[^A-Za-z0-9_]", "_", name)
-    return "_" + out if not out or out[0].isdigit() else out
+                "differences": [vars(d) for d in self.differences],
+                "matching": None if self.matching is None else {
+                    "renamed": [list(p) for p in self.matching.renamed],
+                    "only_source": list(self.matching.only_a),
+                    "only_converted": list(self.matching.only_b)}}
 
 
 def compare_import(source: str | Path, converted: str | Path) -> AgainstReport:
@@ -106,18 +115,19 @@ def compare_import(source: str | Path, converted: str | Path) -> AgainstReport:
     src, _ = read_description(source)
     dst, _ = read_description(converted)
     report = AgainstReport(Path(source), Path(converted))
+    report.matching = match_names([lk.name for lk in src.links], [lk.name for lk in dst.links])
     by_name = {link.name: link for link in dst.links}
-    by_ident = {identifier(link.name): link for link in dst.links}
+    pairs = dict(report.matching.pairs)
     matched: set[str] = set()
     for link in src.links:
-        other = by_name.get(link.name) or by_ident.get(identifier(link.name))
+        other = by_name[pairs[link.name]] if link.name in pairs else None
         a = Side.of(link)
         if other is None:
             report.links.append((link.name, a, Side(None, None, None)))
             if a.mass:
                 report.differences.append(Difference(
-                    link.name, "missing", f"{a.mass:.6g} kg in the source; no body of that "
-                    "name in the converted asset"))
+                    link.name, "missing", f"{a.mass:.6g} kg in the source; no body of the "
+                    "converted asset matches its name"))
             report.total_source += a.mass or 0.0
             continue
         matched.add(other.name)
@@ -177,8 +187,15 @@ def _classify(name: str, a: Side, b: Side, link: Link, robot: Robot) -> list[Dif
     if a.mass is None:
         return [] if not b.mass else [Difference(
             name, "extra", f"no inertial in the source; {b.mass:.6g} kg converted")]
+    if b.tensor is None:
+        change = "" if math.isclose(a.mass, b.mass, rel_tol=MASS_RTOL) else \
+            f" (source {a.mass:.6g} kg)"
+        return [Difference(name, "mass-only", f"converted {b.mass:.6g} kg{change} with no CoM "
+                           "or tensor: the engine derives them from its collision shapes")]
     out: list[Difference] = []
     same_mass = math.isclose(a.mass, b.mass, rel_tol=MASS_RTOL, abs_tol=1e-12)
+    if a.tensor is None:  # the source states a mass alone: only that can differ
+        return [] if same_mass else [_mass_difference(name, a.mass, b.mass, link, robot)]
     if not same_mass:
         out.append(_mass_difference(name, a.mass, b.mass, link, robot))
     assert a.com is not None and b.com is not None
@@ -271,6 +288,9 @@ def _v(x: np.ndarray) -> str:
 def report_lines(report: AgainstReport) -> list[str]:
     """The conversion's differences, one line each, and the total masses."""
     lines = [f"{d.link}: {d.kind}: {d.message}" for d in report.differences]
+    if report.matching is not None and (report.matching.renamed or report.matching.only_a
+                                        or report.matching.only_b):
+        lines.insert(0, report.matching.summary())
     lines.append(f"total mass: source {report.total_source:.6g} kg, converted "
                  f"{report.total_converted:.6g} kg as authored, {report.total_engine:.6g} kg "
                  "as engines load it")

@@ -39,17 +39,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-#: Principal moments closer than this fraction of the largest count as equal (degenerate).
+from urdfinertia.analysis.matching import Matching, match_names
 from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
+from urdfinertia.descriptions.model import Link
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.plan.fix import fix_robot, link_verdicts
 from urdfinertia.plan.policy import every_link
 from urdfinertia.plan.results import FixResult, LinkResult
 
-#: Moments within a few percent give axes that swing with any perturbation of that size.
+#: Principal moments closer than this fraction of the largest count as equal (degenerate):
+#: moments within a few percent give axes that swing with any perturbation of that size.
 DEGENERATE_RTOL = 0.05
 #: Default thresholds of the verdict (relative CoM distance, inertia error, mass mismatch).
 DEFAULT_TOL_COM = 0.05
@@ -263,25 +265,56 @@ def compare_with_geometry(path: str | Path, options: FixOptions | None = None,
 def compare_files(path_a: str | Path, path_b: str | Path, *,
                   tol_com: float = DEFAULT_TOL_COM, tol_inertia: float = DEFAULT_TOL_INERTIA,
                   tol_mass: float = DEFAULT_TOL_MASS) -> list[LinkComparison]:
-    """Inertials of URDF A against URDF B, links matched by name (A's order, then B's)."""
+    """Inertials of description A against description B, links matched by name as
+    converters rename them (:mod:`urdfinertia.analysis.matching`), in A's order, then B's
+    links A does not have."""
+    return match_files(path_a, path_b, tol_com=tol_com, tol_inertia=tol_inertia,
+                       tol_mass=tol_mass)[0]
+
+
+def match_files(path_a: str | Path, path_b: str | Path, *,
+                tol_com: float = DEFAULT_TOL_COM, tol_inertia: float = DEFAULT_TOL_INERTIA,
+                tol_mass: float = DEFAULT_TOL_MASS) -> tuple[list[LinkComparison], Matching]:
+    """:func:`compare_files` and the matching of the links' names it used."""
     robot_a, _ = read_description(path_a)
     robot_b, _ = read_description(path_b)
-    in_a = {link.name: link.inertial for link in robot_a.links}
-    in_b = {link.name: link.inertial for link in robot_b.links}
-    names = list(in_a) + [n for n in in_b if n not in in_a]
+    links_a = {link.name: link for link in robot_a.links}
+    links_b = {link.name: link for link in robot_b.links}
+    matching = match_names(list(links_a), list(links_b))
+    other = dict(matching.pairs)
     out = []
-    for name in names:
-        ia, ib = in_a.get(name), in_b.get(name)
+    for name in [*links_a, *matching.only_b]:
+        la = links_a.get(name)
+        lb = links_b.get(other[name]) if name in other else (
+            links_b[name] if la is None else None)
+        ia = _raw(la)
+        ib = _raw(lb)
         if ia is None and ib is None:
             continue
-        out.append(compare_raw(
-            name,
-            RawInertial.from_inertial(ia) if ia is not None else None,
-            RawInertial.from_inertial(ib) if ib is not None else None,
-            tol_com=tol_com, tol_inertia=tol_inertia, tol_mass=tol_mass,
-            missing_a=f"no <inertial> in A{'' if name in in_a else ' (no such link)'}",
-            missing_b=f"no <inertial> in B{'' if name in in_b else ' (no such link)'}"))
-    return out
+        renamed = lb is not None and la is not None and lb.name != name
+        c = compare_raw(name, ia, ib, tol_com=tol_com, tol_inertia=tol_inertia,
+                        tol_mass=tol_mass, missing_a=_missing("A", la),
+                        missing_b=_missing("B", lb))
+        if renamed and lb is not None and not c.note:
+            c = replace(c, note=f"named {lb.name} in B")
+        out.append(c)
+    return out, matching
+
+
+def _raw(link: Link | None) -> RawInertial | None:
+    return None if link is None or link.inertial is None else \
+        RawInertial.from_inertial(link.inertial)
+
+
+def _missing(side: str, link: Link | None) -> str:
+    """Why side ``side`` has no inertial for a link."""
+    if link is None:
+        return f"no link of side {side} matches"
+    implicit = link.implicit
+    if implicit is not None and implicit.mass is not None:
+        return (f"{side} states only a mass ({implicit.mass:.6g} kg): the engine derives "
+                f"CoM and tensor from its {implicit.source}")
+    return f"no <inertial> in {side}" + (f" ({link.name})" if side == "B" else "")
 
 
 def worst_first(comparisons: Sequence[LinkComparison], tol_com: float = DEFAULT_TOL_COM,

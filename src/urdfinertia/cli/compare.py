@@ -23,12 +23,13 @@ from urdfinertia.analysis.compare import (
     DEFAULT_TOL_MASS,
     FAILING,
     LinkComparison,
-    compare_files,
     compare_with_geometry,
     comparison_dict,
+    match_files,
     summary,
     worst_first,
 )
+from urdfinertia.analysis.matching import Matching
 from urdfinertia.atomic import atomic_write_bytes
 from urdfinertia.cli.options import add_common_geometry_arguments, options_from_args, positive_float
 from urdfinertia.errors import OutputError
@@ -74,8 +75,9 @@ def worst_error(c: LinkComparison) -> float:
 
 def run(args: argparse.Namespace) -> int:
     tols = dict(tol_com=args.tol_com, tol_inertia=args.tol_inertia, tol_mass=args.tol_mass)
+    matching: Matching | None = None
     if args.against is not None:
-        comparisons = compare_files(args.urdf, args.against, **tols)
+        comparisons, matching = match_files(args.urdf, args.against, **tols)
         title = f"{args.urdf} (A) vs {args.against} (B)"
     else:
         comparisons = compare_with_geometry(args.urdf, options_from_args(args), **tols)
@@ -93,6 +95,10 @@ def run(args: argparse.Namespace) -> int:
                "links": [comparison_dict(c) for c in comparisons]}
         if conversion is not None:
             doc["conversion"] = conversion.as_dict()
+        if matching is not None:
+            doc["matching"] = {"renamed": [list(p) for p in matching.renamed],
+                               "only_a": list(matching.only_a),
+                               "only_b": list(matching.only_b)}
         atomic_write_bytes(args.json, json.dumps(doc, indent=2).encode())
     if args.csv is not None:
         atomic_write_bytes(args.csv, comparisons_csv(comparisons).encode())
@@ -114,6 +120,9 @@ def run(args: argparse.Namespace) -> int:
             shown = [c for c in shown if c.verdict != "ok"]
         console.print(comparison_table(shown, title, console.width))
     console.print(summary_line(stats), soft_wrap=True)
+    if matching is not None and conversion is None and (
+            matching.renamed or matching.only_a or matching.only_b):
+        console.print(matching.summary(), soft_wrap=True, markup=False, highlight=False)
     if conversion is not None:
         from urdfinertia.analysis.against import report_lines
 

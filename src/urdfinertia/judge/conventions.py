@@ -16,11 +16,17 @@ body to hold it against, and it is inferred when:
 An inferred convention is undone on every link where the edit is feasible and does not
 lower the likelihood (links it leaves as good as written, a CoM at the origin for the
 parallel axis, are unaffected); the robot finding says how many links.
+
+A robot assembled from sub-assemblies (a humanoid's arms exported apart from its legs)
+may follow a convention in one limb only: the whole file then contradicts it. So a
+convention the file does not support is tried on each chain of the kinematic tree (the
+links between two branching points, :func:`chains`) with the same thresholds, over the
+links no file-wide convention covers.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 from urdfinertia.inertia.slips import MARGIN, Scored, Solid, Written, rank_edits
@@ -59,10 +65,13 @@ class Convention:
     informative: int
     contradict: int
     links: tuple[str, ...]
+    chain: str | None = None
+    """The first link of the chain it holds in (None: the whole file)."""
 
     def summary(self) -> str:
-        return (f"{self.words}: {self.support} of {self.informative} links it would change "
-                f"support it, {self.contradict} contradict it; undone on "
+        where = "" if self.chain is None else f" (in the chain from {self.chain})"
+        return (f"{self.words}{where}: {self.support} of {self.informative} links it would "
+                f"change support it, {self.contradict} contradict it; undone on "
                 f"{len(self.links)} link(s)")
 
 
@@ -73,11 +82,25 @@ def _scores(w: Written, solid: Solid) -> tuple[Scored, dict[str, Scored]]:
 
 
 def infer_conventions(written: Mapping[str, Written], solids: Mapping[str, Solid],
-                      ) -> list[Convention]:
+                      chains: Sequence[Sequence[str]] = ()) -> list[Convention]:
     """The conventions the links support (module doc); ``written`` and ``solids`` by link
-    name (links without a body to hold them against are left out)."""
+    name (links without a body to hold them against are left out), ``chains`` the links of
+    each chain of the tree, first link first."""
     scored = {name: _scores(w, solids[name]) for name, w in written.items()
               if name in solids}
+    found = _infer(scored, None)
+    covered = {n for c in found for n in c.links}
+    for chain in chains:
+        within = {n: scored[n] for n in chain if n in scored and n not in covered}
+        if len(within) >= MIN_SUPPORT:
+            found.extend(_infer(within, chain[0]))
+    # best supported first: a link two conventions would edit takes the first (one edit)
+    found.sort(key=lambda c: (c.chain is not None, -c.support, c.contradict, c.edit))
+    return found
+
+
+def _infer(scored: Mapping[str, tuple[Scored, dict[str, Scored]]], chain: str | None,
+           ) -> list[Convention]:
     found = []
     for edit, words in CONVENTIONS.items():
         support = contradict = informative = 0
@@ -99,7 +122,27 @@ def infer_conventions(written: Mapping[str, Written], solids: Mapping[str, Solid
         if support >= MIN_SUPPORT and support >= SUPPORT_SHARE * informative \
                 and contradict <= CONTRADICTION_SHARE * support:
             found.append(Convention(edit, words, support, informative, contradict,
-                                    tuple(apply)))
-    # best supported first: a link two conventions would edit takes the first (one edit)
-    found.sort(key=lambda c: (-c.support, c.contradict, c.edit))
+                                    tuple(apply), chain))
     return found
+
+
+def chains(edges: Iterable[tuple[str, str]]) -> list[list[str]]:
+    """The chains of a kinematic tree given as (parent, child) edges: the maximal paths
+    whose links (but the last) have one child each, every chain starting at a child of
+    the root or of a branching link."""
+    children: dict[str, list[str]] = {}
+    parents: set[str] = set()
+    kids: set[str] = set()
+    for parent, child in edges:
+        children.setdefault(parent, []).append(child)
+        parents.add(parent)
+        kids.add(child)
+    out = []
+    starts = [c for p in children if p not in kids or len(children[p]) > 1
+              for c in children[p]]
+    for start in starts:
+        chain = [start]
+        while len(children.get(chain[-1], ())) == 1:
+            chain.append(children[chain[-1]][0])
+        out.append(chain)
+    return out

@@ -8,7 +8,11 @@ primary one (the collisions, or the geoms MuJoCo counts), and:
 
 1. if some complete candidate agrees with it (plausible implied density, tensor size within
    what that geometry allows), the written value fits the body: that candidate represents
-   the body, and the others are set aside, said so (``geometry-not-body``);
+   the body, and the others are set aside, said so (``geometry-not-body``). Primitive
+   stand-ins are a coarser description than a mesh of the same link: when the primary set
+   is primitives and another set has meshes, the meshes are held against the value too,
+   and a mesh set of plausible density represents the body over primitives that agree
+   (the same link with and without a collision cylinder around its mesh gets one verdict);
 2. if none agrees, a candidate far smaller than another (:data:`NOT_BODY_RATIO`) is set
    aside as a marker or contact set, and the most faithful of the rest (a detailed mesh
    over a convex hull over primitive stand-ins) is the body the findings are judged
@@ -35,6 +39,7 @@ from urdfinertia.body.geometry_choice import KINDS, Candidate
 from urdfinertia.body.mass import MassSource
 from urdfinertia.body.options import PLAUSIBLE_DENSITY
 from urdfinertia.descriptions.inertial import RawInertial
+from urdfinertia.descriptions.model import Mesh
 from urdfinertia.errors import UrdfInertiaError
 from urdfinertia.findings import Finding
 from urdfinertia.inertia.slips import Solid
@@ -90,6 +95,10 @@ class GeometryJudgement:
     geometry_slip : str or None
         A unit slip of the geometry that explains its implied density ("mesh in mm without
         scale 0.001?"): the geometry, not the inertial, is wrong.
+    mass_slip : str or None
+        A unit slip of the mass that would explain the implied density ("mass in g?"). One
+        link alone does not show it (a marker's density looks the same): it is the robot's
+        to show, through its mass distribution or a convention of the file.
     """
 
     findings: tuple[Finding, ...] = ()
@@ -99,6 +108,7 @@ class GeometryJudgement:
     density: float | None = None
     not_body: str | None = None
     geometry_slip: str | None = None
+    mass_slip: str | None = None
 
     @property
     def rules(self) -> frozenset[Rule]:
@@ -121,8 +131,8 @@ def judge_geometry(ev: LinkEvidence) -> GeometryJudgement:
     first = ev.primary
     candidates = [c for c in ([first] if first is not None else []) if not c.dropped]
     flags = {id(c): candidate_findings(ev, raw, c, bounds) for c in candidates}
-    if not candidates or any(flags[id(c)] for c in candidates):
-        # the primary set disagrees (or is incomplete): is another the body?
+    if not candidates or any(flags[id(c)] for c in candidates) or _finer_elsewhere(ev, first):
+        # the primary set disagrees, is incomplete or coarse: is another the body?
         for other in ev.others():
             if not other.dropped:
                 candidates.append(other)
@@ -130,7 +140,15 @@ def judge_geometry(ev: LinkEvidence) -> GeometryJudgement:
     if not candidates:
         return GeometryJudgement(tuple(out), bounds=bounds)
     agree = [c for c in candidates if not flags[id(c)]]
-    if agree:
+    finest = _finest_plausible(candidates, flags)
+    if agree and finest is not None and finest not in agree \
+            and _rank(finest) > max(_rank(c) for c in agree):
+        body = finest
+        out.extend(_set_aside(ev, c, f"the {body.role} meshes describe the body in more "
+                              "detail than these stand-ins") for c in candidates
+                   if c is not body)
+        out.extend(flags[id(body)])
+    elif agree:
         body = _most_faithful(agree)
         out.extend(_set_aside(ev, c, f"the written values fit the {body.role} geometry, "
                               "not this one") for c in candidates if flags[id(c)])
@@ -145,6 +163,26 @@ def judge_geometry(ev: LinkEvidence) -> GeometryJudgement:
     density = raw.mass / body.volume
     judged = GeometryJudgement(tuple(out), body, candidate_solid(body, bounds), bounds, density)
     return _not_the_body(ev, raw, judged)
+
+
+def _rank(c: Candidate) -> int:
+    return KINDS.index(c.kind)
+
+
+def _finer_elsewhere(ev: LinkEvidence, first: Candidate | None) -> bool:
+    """The primary set is primitive stand-ins and another role has meshes."""
+    if first is None or first.kind != KINDS[0]:
+        return False
+    return any(role != ev.primary_role and any(isinstance(r.shape, Mesh) for r in refs)
+               for role, refs in ev.roles)
+
+
+def _finest_plausible(candidates: list[Candidate], flags: dict[int, list[Finding]],
+                      ) -> Candidate | None:
+    """The most faithful candidate whose implied density is plausible (None: none)."""
+    ok = [c for c in candidates
+          if not any(f.rule is Rule.IMPLAUSIBLE_DENSITY for f in flags[id(c)])]
+    return _most_faithful(ok) if ok else None
 
 
 def _most_faithful(candidates: list[Candidate]) -> Candidate:
@@ -181,7 +219,8 @@ def _not_the_body(ev: LinkEvidence, raw: RawInertial, judged: GeometryJudgement,
             return dataclasses.replace(judged, geometry_slip=slip[2])
         # a mass slip is for the slip search to show (it must fit the body); without one,
         # the geometry is not the body
-        return dataclasses.replace(judged, not_body=not_the_body(rho))
+        return dataclasses.replace(judged, not_body=not_the_body(rho),
+                                   mass_slip=None if slip is None else slip[2])
     bounds = judged.bounds
     assert bounds is not None
     if raw.com_ok and _outside(raw.com, *bounds) > MARKER_OUTSIDE * _diagonal(*bounds) \

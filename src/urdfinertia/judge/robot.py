@@ -36,7 +36,7 @@ from urdfinertia.findings import Finding
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.slips import Proposal, Solid, Written, rank_edits
 from urdfinertia.judge.closed_form import closed_form_factor, closed_form_finding
-from urdfinertia.judge.conventions import Convention, infer_conventions
+from urdfinertia.judge.conventions import Convention, chains, infer_conventions
 from urdfinertia.judge.geometry import (
     AGAINST_CANDIDATE,
     GeometryJudgement,
@@ -279,11 +279,13 @@ def _conventions(evidence: RobotEvidence, per: Mapping[str, LinkJudgement],
     for name, j in per.items():
         w = finite_written(evidence.robot.link(name))
         solid = j.geometry.solid
-        if w is None or solid is None or j.geometry.not_body is not None \
-                or j.closed_form is not None:
+        # a density a unit slip of the mass explains is evidence for a file in grams
+        not_body = j.geometry.not_body is not None and j.geometry.mass_slip is None
+        if w is None or solid is None or not_body or j.closed_form is not None:
             continue
         written[name], solids[name] = w, solid
-    return infer_conventions(written, solids)
+    tree = chains((j.parent, j.child) for j in evidence.robot.joints)
+    return infer_conventions(written, solids, tree)
 
 
 def _convention_slip(ev: LinkEvidence, j: LinkJudgement, c: Convention) -> LinkJudgement:

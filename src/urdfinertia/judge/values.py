@@ -22,9 +22,9 @@ from urdfinertia.rules import Rule
 ABSURD_MASS = 1e6
 #: Inertia components beyond this (kg m^2) describe no robot link.
 ABSURD_MOMENT = 1e6
-#: An isotropic tensor (equal moments, no products) whose radius of gyration exceeds this
-#: many times the radius of a water sphere of the same mass is no compact body's: a
-#: placeholder (PR2's 10 g frames at 0.32 m, 1 g IMUs at 1e-4 kg m^2). A solid sphere's
+#: A typed tensor (no products; equal or one-digit moments) whose radius of gyration
+#: exceeds this many times the radius of a water sphere of the same mass is no compact
+#: body's: a placeholder (PR2's 10 g frames at 0.32 m, 1 g IMUs at 1e-4 kg m^2). A solid sphere's
 #: gyration is 0.63 of its radius; even a thin hollow sphere of a light plastic (200 kg/m^3
 #: spread over the whole ball) stays within 3 times.
 ISOTROPIC_REACH = 10.0
@@ -115,22 +115,38 @@ def value_findings(ev: LinkEvidence) -> list[Finding]:
 
 def placeholder_cause(raw: RawInertial) -> str | None:
     """Why the written tensor is a placeholder (None: it is not one): the literal
-    placeholders (``1``, a power of ten up to 1e-6 on the diagonal, no products), or an
-    isotropic tensor whose radius of gyration no compact body of its mass reaches
-    (:data:`ISOTROPIC_REACH`)."""
+    placeholders (``1``, a power of ten up to 1e-6 on the diagonal, no products), or a
+    typed tensor (:func:`typed`) whose radius of gyration no compact body of its mass
+    reaches (:data:`ISOTROPIC_REACH`)."""
     t = raw.inertia
     if is_placeholder(t):
         return (f"ixx=iyy=izz={t[0, 0]:g}, no products: a placeholder, not a computed "
                 "tensor")
-    if not isotropic(t) or not raw.mass_ok:
+    if not typed(t) or not raw.mass_ok or not raw.mass > 0:
         return None
-    gyration = math.sqrt(1.5 * float(t[0, 0]) / raw.mass)  # sqrt(trace / 2m)
+    gyration = math.sqrt(float(np.trace(t)) / (2 * raw.mass))
     water = (3 * raw.mass / (4 * math.pi * 1000.0)) ** (1 / 3)
     if gyration > ISOTROPIC_REACH * water:
-        return (f"ixx=iyy=izz={t[0, 0]:g}, no products, for {raw.mass:.4g} kg: a radius of "
+        what = (f"ixx=iyy=izz={t[0, 0]:g}" if isotropic(t) else
+                f"ixx={t[0, 0]:g} iyy={t[1, 1]:g} izz={t[2, 2]:g}")
+        return (f"{what}, no products, for {raw.mass:.4g} kg: a radius of "
                 f"gyration of {gyration:.3g} m, which no compact body of that mass reaches "
                 f"(a water sphere of it has radius {water:.3g} m): a placeholder")
     return None
+
+
+def typed(t: np.ndarray) -> bool:
+    """No products and round moments: equal ones, or each of one significant digit (PR2's
+    laser at ixx=1e-4 iyy=1e-6 izz=1e-4), the shapes of typed placeholders."""
+    off = t[~np.eye(3, dtype=bool)]
+    if not np.all(off == 0) or not np.all(np.diag(t) > 0):
+        return False
+    return isotropic(t) or all(_one_digit(float(x)) for x in np.diag(t))
+
+
+def _one_digit(x: float) -> bool:
+    mantissa = f"{x:.15e}".split("e")[0].rstrip("0").rstrip(".")
+    return len(mantissa.replace(".", "")) == 1
 
 
 def isotropic(t: np.ndarray) -> bool:

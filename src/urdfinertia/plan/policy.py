@@ -237,6 +237,9 @@ def _default(ev: LinkEvidence, j: LinkJudgement, robot: RobotEvidence) -> LinkPl
                    j.unverified[0].rule if unread else Rule.NO_GEOMETRY)
         if invalid:
             return _repair(ev, j, triggers, because)
+        if Rule.PLACEHOLDER_INERTIA in rules and not unread:
+            # a placeholder is no value to keep, and nothing here computes a better one
+            return _repair(ev, j, triggers, because, placeholder=True)
         if negligible:
             return LinkPlan(name, Action.LEAVE, triggers, Rule.NEGLIGIBLE_BODY)
         return LinkPlan(name, Action.LEAVE, triggers, because, unresolved=True)
@@ -346,7 +349,7 @@ MIN_BODY_RADIUS = 0.01
 
 
 def _repair(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...],
-            because: Rule | None = None) -> LinkPlan:
+            because: Rule | None = None, placeholder: bool = False) -> LinkPlan:
     """The minimal repair of a link with nothing to derive from.
 
     An invalid tensor is lifted (``--repair-only``'s repair). Two cases the lift cannot
@@ -354,7 +357,9 @@ def _repair(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...],
     tensor with no information left (radius of gyration below :data:`MIN_GYRATION`, e.g.
     iCub's ankles at 1e-20 kg m^2 for 0.27 kg) becomes a solid sphere of the written mass
     at ``options.density``; a moving link with no usable mass at all gets
-    :data:`MIN_BODY_MASS` in a :data:`MIN_BODY_RADIUS` sphere.
+    :data:`MIN_BODY_MASS` in a :data:`MIN_BODY_RADIUS` sphere. A ``placeholder`` tensor
+    (valid, but no computed value: PR2's 10 g camera frames at a 0.39 m radius of
+    gyration) gets the sphere as well.
     """
     from urdfinertia.inertia.massprops import MassProperties
     from urdfinertia.inertia.tensor_repair import repair_tensor
@@ -379,7 +384,7 @@ def _repair(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...],
     with np.errstate(all="ignore"):
         finite = bool(np.all(np.isfinite(raw.inertia))) and float(
             np.abs(raw.inertia).max(initial=0.0)) < 1e6
-    if finite:
+    if finite and not placeholder:
         try:
             lifted = repair_tensor(raw.inertia)
             moments = np.linalg.eigvalsh(lifted.tensor)
@@ -395,7 +400,8 @@ def _repair(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...],
             pass
     radius = (3 * raw.mass / (4 * math.pi * options.density)) ** (1 / 3)
     body = MassProperties(raw.mass, com, _sphere(raw.mass, radius))
-    note = Finding(Rule.TENSOR_HOLDS_NOTHING, name, f"the tensor holds nothing to keep: a "
+    what = "placeholder" if placeholder else "tensor"
+    note = Finding(Rule.TENSOR_HOLDS_NOTHING, name, f"the {what} holds nothing to keep: a "
                    f"solid sphere of the mass at {options.density:g} kg/m^3", ev.link.line,
                    "inertial")
     return LinkPlan(name, Action.REPAIR, grounds, because, keep, Assembly(

@@ -101,3 +101,27 @@ def test_cli_compare_against_prints_and_writes_the_differences(tmp_path):
     assert {d["kind"] for d in doc["differences"]} == {"dropped", "defaulted",
                                                       "density-derived", "frame-change"}
     assert doc["total_mass"]["source"] == pytest.approx(11.51)
+
+
+def test_a_mass_without_a_tensor_keeps_its_mass_and_is_named(tmp_path):
+    """A MassAPI with ``physics:mass`` alone is valid (the engine derives CoM and tensor
+    from the colliders at that mass): the mass counts in the converted total, and the
+    missing tensor is named, not read as a dropped body."""
+    from pxr import Sdf, Usd
+
+    root = copy("spirit40", tmp_path)
+    stage = Usd.Stage.Open(str(root))
+    path = {p.GetName(): p.GetPath() for p in stage.Traverse()}
+    layer = Sdf.Layer.FindOrOpen(str(root.parent / "Payload" / "Physics.usda"))
+    prim = layer.GetPrimAtPath(path["upper1"])
+    for attr in ("physics:diagonalInertia", "physics:principalAxes", "physics:centerOfMass",
+                 "newton:inertia"):
+        if attr in prim.attributes:
+            prim.RemoveProperty(prim.attributes[attr])
+    layer.Save()
+    report = compare_import(source("spirit40"), root)
+    assert [(d.link, d.kind) for d in report.differences] == [("upper1", "mass-only")]
+    assert report.total_converted == pytest.approx(report.total_source, rel=1e-5)
+    converted = read_description(root)[0].link("upper1")
+    assert converted.inertial is None and converted.implicit.mass == pytest.approx(
+        read_description(source("spirit40"))[0].link("upper1").inertial.mass, rel=1e-6)
