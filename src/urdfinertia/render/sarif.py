@@ -43,8 +43,14 @@ def artifact_uri(path: Path) -> str:
     return Path(shown).as_uri() if Path(shown).is_absolute() else shown
 
 
-def help_uri(rule: Rule) -> str:
-    """The rules page's section of ``rule`` (``{DOCS_URL}rules/#ui111``)."""
+def help_uri(rule: Rule | str) -> str | None:
+    """The rules page's section of ``rule``, a rule or its id (``{DOCS_URL}rules/#ui111``;
+    None for an id no rule has)."""
+    if not isinstance(rule, Rule):
+        try:
+            rule = Rule.by_id(rule)
+        except (KeyError, ValueError):
+            return None
     return f"{DOCS_URL}rules/#{rule.anchor}"
 
 
