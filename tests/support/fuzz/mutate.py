@@ -408,15 +408,15 @@ def xacro_expression(data: bytes, rng: random.Random, profile: Profile) -> Edit 
 
     Kept to values (division by zero, NaN, huge numbers, undefined names): what xacro
     expansion may reach on the file system or how long it may run is tested elsewhere."""
-    found = list(re.finditer(rb"\$\{([^}]*)\}", data)) or list(_NUMBER.finditer(data))
-    if not found:
+    expressions = list(re.finditer(rb"\$\{([^}]*)\}", data))
+    numbers = list(_NUMBER.finditer(data))
+    if not expressions and not numbers:
         return None
-    m = rng.choice(found)
-    span = m.span(1) if m.re.pattern.startswith(rb"\$") else m.span()
     new = rng.choice((b"1/0", b"float('nan')", b"1e308*10", b"undefined_name", b"-1e308",
                       b"(", b"1e-320", b"'text'", b"[1,2]"))
-    return Edit("xacro-expr", _replace(data, span, new if span == m.span(1)
-                                       else b"${" + new + b"}"))
+    if expressions:  # the expression's body replaced
+        return Edit("xacro-expr", _replace(data, rng.choice(expressions).span(1), new))
+    return Edit("xacro-expr", _replace(data, rng.choice(numbers).span(), b"${" + new + b"}"))
 
 
 Mutator = Callable[[bytes, random.Random, Profile], "Edit | None"]
