@@ -227,7 +227,7 @@ def lumped_findings(group: FixedGroup, robot: Robot) -> list[Finding]:
             mp = MassProperties(r.mass, r.com, r.inertia)
         except ValueError:
             mp = None
-        if mp is None or not r.mass_ok:
+        if mp is None or not (r.mass_ok and r.com_ok and r.tensor_in_range):
             return [Finding(group.root, "info", "lumped-mass",
                             f"{head}; the merged body cannot be computed: a member's inertial "
                             "is invalid")]

@@ -1,8 +1,12 @@
 """An inertial as written, in the link frame, before any validation (any format).
 
 :class:`RawInertial` holds arrays, so that an invalid inertial (NaN, negative mass, a
-tensor that breaks the triangle inequality) can be compared and reported instead of
-crashing :class:`~urdfinertia.inertia.massprops.MassProperties`'s checks.
+tensor that breaks the triangle inequality, a mass of 1e307) can be compared and reported
+instead of crashing :class:`~urdfinertia.inertia.massprops.MassProperties`'s checks. Its
+``*_ok`` tests are the one gate for computing with a written value: finite, and within
+the readers' range (:data:`~urdfinertia.descriptions.urdf.read.MAX_MAGNITUDE`), which the
+lenient readers let through for the linters to judge; past it, products of the maths
+overflow (a kept mass of 1e307 did, in ``check``).
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from urdfinertia.descriptions.model import Inertial
+from urdfinertia.descriptions.urdf.read import MAX_MAGNITUDE
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.rotation import rpy_matrix
 from urdfinertia.inertia.validity import TensorDiagnosis, diagnose_tensor
@@ -45,15 +50,25 @@ class RawInertial:
 
     @property
     def mass_ok(self) -> bool:
-        return bool(np.isfinite(self.mass) and self.mass > 0)
+        """Positive, finite and within the readers' range: a mass to compute with."""
+        return bool(np.isfinite(self.mass) and 0 < self.mass <= MAX_MAGNITUDE)
 
     @property
     def com_ok(self) -> bool:
-        return bool(np.all(np.isfinite(self.com)))
+        """Finite and within the readers' range."""
+        return bool(np.all(np.isfinite(self.com)) and np.all(np.abs(self.com) <= MAX_MAGNITUDE))
+
+    @property
+    def tensor_in_range(self) -> bool:
+        """Every entry finite and within the readers' range."""
+        return bool(np.all(np.isfinite(self.inertia))
+                    and np.all(np.abs(self.inertia) <= MAX_MAGNITUDE))
 
     def mass_properties(self) -> MassProperties | None:
-        """The validated value type, or None when the values are not physical."""
-        if not (self.mass_ok and self.com_ok and self.diagnosis().valid):
+        """The validated value type, or None when the values are not physical or not
+        within the readers' range."""
+        if not (self.mass_ok and self.com_ok and self.tensor_in_range
+                and self.diagnosis().valid):
             return None
         try:
             return MassProperties(self.mass, self.com, self.inertia)

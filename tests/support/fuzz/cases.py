@@ -25,7 +25,7 @@ from support.fuzz.seeds import (
 
 #: Share of description cases (the rest mutate a mesh under a small URDF).
 DESCRIPTION_SHARE = 0.7
-#: The commands run on every case, by name.
+#: The commands run on every case, by name ("fix-strict", ``fix --strict``, on request).
 COMMANDS = ("check", "fix", "fix-all")
 
 
@@ -224,6 +224,9 @@ def commands(made: Made) -> dict[str, list[str]]:
                 "--json", str(out / "fix.json"), "-q"],
         "fix-all": ["fix", *base, "--all", "-o", str(out / f"fix-all{made.output_suffix}"),
                     "--json", str(out / "fix-all.json"), "-q"],
+        "fix-strict": ["fix", *base, "--strict", "-o",
+                       str(out / f"fix-strict{made.output_suffix}"),
+                       "--json", str(out / "fix-strict.json"), "-q"],
     }
 
 

@@ -7,8 +7,8 @@ Classes, worst first:
   command line's shell, a signal, or an undocumented exit code;
 - ``input-modified``: the mutant, or any file beside it, changed, appeared or vanished;
 - ``half-written``: a temporary file left in the output folder, an output written by a
-  run that failed (exit 2), no output from one that succeeded, or an output that cannot
-  be read back at all;
+  run that failed (exit 2), no output from one that succeeded, an output that cannot be
+  read back at all, or ``fix --strict`` writing with links left (exit 1);
 - ``output-invalid``: an output whose inertial, on any link, is not finite, out of the
   readers' range, has a negative mass, is not positive definite or breaks the triangle
   inequality (:mod:`urdfinertia.inertia.validity`), where the run did not name that link
@@ -69,7 +69,10 @@ def inspect_output(path: Path) -> dict[str, Any]:
     links = {}
     for link in robot.links:
         if link.inertial is not None:
-            why = inertial_problems(link.inertial)
+            try:
+                why = inertial_problems(link.inertial)
+            except Exception as exc:  # the validity test itself failed on these values
+                why = [f"cannot be tested: {type(exc).__name__}: {exc}"]
             if why:
                 links[link.name] = why
     problems = [p.describe(path) for p in robot.problems
@@ -158,13 +161,16 @@ def _half_written(run: RunResult, out_dir: Path, output: Path,
     json_path = output.with_name(output.stem + ".json")
     expected = {output.name, json_path.name}
     stray = sorted(p.name for p in out_dir.iterdir()
-                   if p.name not in expected and not p.name.startswith(("fix.", "fix-all.")))
+                   if p.name not in expected
+                   and not p.name.startswith(("fix.", "fix-all.", "fix-strict.")))
     stray += sorted(p.name for p in out_dir.iterdir()
                     if p.name.startswith(".") or p.name.endswith((".tmp", ".bak")))
     if stray:
         return f"left in the output folder: {', '.join(sorted(set(stray)))}"
     if run.code == 2 and output.exists():
         return "exit 2 but the output was written"
+    if run.code == 1 and output.stem == "fix-strict":
+        return "--strict wrote an output and left links (exit 1): all or nothing"
     if run.code in (0, 1) and not output.exists():
         return f"exit {run.code} but no output"
     if run.code in (0, 1) and not json_path.exists():

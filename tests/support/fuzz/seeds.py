@@ -108,6 +108,7 @@ _INSTALLED = (
 )
 #: (name, format, path below tests/data, folder to mirror below tests/data)
 _REPO_DATA = (
+    ("inline/base", "urdf", "fuzz/base.urdf", "fuzz"),
     ("xacro/rover", "xacro", "xacro/nested/rover.urdf.xacro", "xacro/nested"),
     ("xacro/humanoid", "xacro", "xacro/limbs/humanoid.urdf.xacro", "xacro/limbs"),
     ("xacro/fr3", "xacro", "xacro/franka_description/robots/fr3/fr3.urdf.xacro",

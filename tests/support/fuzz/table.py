@@ -29,7 +29,7 @@ def format_table(results: Sequence[CaseResult]) -> str:
     lines = []
     width = max(len(c) for c in CLASSES) + 2
     head = f"{'':<{width}}" + "".join(f"{f:>10}" for f in fmts) + f"{'total':>10}"
-    for command in COMMANDS:
+    for command in (*COMMANDS, "fix-strict"):
         if not any(k[0] == command for k in found):
             continue
         lines.append(f"{command} ({len(results)} cases)")
