@@ -341,23 +341,22 @@ def _dae_text(data: bytes, fmt: str, rng: random.Random) -> tuple[str, bytes]:
 
 
 def _with_emission_texture(data: bytes) -> bytes:
-    """An effect whose emission is a texture map: trimesh's material parser logs a
-    warning with a traceback for it (what PR2's COLLADA files do)."""
-    effect = (b'<library_images><image id="img"><init_from>missing.png</init_from></image>'
-              b'</library_images><library_effects><effect id="fx"><profile_COMMON>'
-              b'<newparam sid="surf"><surface type="2D"><init_from>img</init_from></surface>'
-              b'</newparam><newparam sid="samp"><sampler2D><source>surf</source></sampler2D>'
-              b'</newparam><technique sid="common"><phong><emission><texture texture="samp" '
-              b'texcoord="UV"/></emission><diffuse><texture texture="samp" texcoord="UV"/>'
-              b'</diffuse></phong></technique></profile_COMMON></effect></library_effects>'
-              b'<library_materials><material id="mat"><instance_effect url="#fx"/>'
-              b'</material></library_materials>')
-    out = re.sub(rb"<library_(?:images|effects|materials)\b.*?</library_(?:images|effects|"
-                 rb"materials)>", b"", data, flags=re.S)
-    at = out.find(b"<library_geometries")
-    if at < 0:
-        return data
-    return out[:at] + effect + out[at:]
+    """The document with one more material, whose emission is a texture map: trimesh's
+    material parser logs a warning with a traceback for it (what PR2's COLLADA files do)."""
+    return data.replace(b"<library_geometries", EMISSION_LIBRARIES + b"<library_geometries", 1)
+
+
+#: COLLADA libraries of an image, an effect with a texture as its emission and a material.
+EMISSION_LIBRARIES = (
+    b'<library_images><image id="fuzzimg"><init_from>missing.png</init_from></image>'
+    b'</library_images><library_effects><effect id="fuzzfx"><profile_COMMON>'
+    b'<newparam sid="surf"><surface type="2D"><init_from>fuzzimg</init_from></surface>'
+    b'</newparam><newparam sid="samp"><sampler2D><source>surf</source></sampler2D>'
+    b'</newparam><technique sid="common"><phong><emission><texture texture="samp" '
+    b'texcoord="UV"/></emission><diffuse><texture texture="samp" texcoord="UV"/>'
+    b'</diffuse></phong></technique></profile_COMMON></effect></library_effects>'
+    b'<library_materials><material id="fuzzmat"><instance_effect url="#fuzzfx"/>'
+    b'</material></library_materials>')
 
 
 def _ply(data: bytes, fmt: str, rng: random.Random) -> tuple[str, bytes]:
