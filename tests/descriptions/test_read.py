@@ -68,6 +68,17 @@ def test_out_of_range_drops_the_element(text):
     assert r.links[0].collisions == () and "out of range" in only_problem(r).cause
 
 
+@pytest.mark.parametrize(("m", "i"), [("1e-320", "1"), ("1", "5e-324"), ("-4e-310", "1")])
+def test_a_subnormal_value_is_out_of_range(m, i):
+    """Found by fuzzing: a kept mass of 1e-320 kg gave a written tensor of principal
+    moments (0, 3.5e-323, 3.5e-323), not positive definite. A subnormal is what an
+    underflow leaves, never a stated quantity: the inertial is not used (recomputed)."""
+    p = only_problem(robot("", INERTIAL.format(m=m, i=i)), "ignored")
+    assert "subnormal" in p.cause and p.link == "a"
+    assert robot("", INERTIAL.format(m=m, i=i)).links[0].inertial is None
+    assert robot("", INERTIAL.format(m="2.3e-308", i="1e-300")).links[0].inertial.mass > 0
+
+
 def test_largest_magnitude_accepted():
     assert box(f"{MAX_MAGNITUDE:g} 1 1").links[0].collisions[0].shape.size[0] == MAX_MAGNITUDE
 

@@ -4,7 +4,7 @@
 tensor that breaks the triangle inequality, a mass of 1e307) can be compared and reported
 instead of crashing :class:`~urdfinertia.inertia.massprops.MassProperties`'s checks. Its
 ``*_ok`` tests are the one gate for computing with a written value: finite, and within
-the readers' range (:data:`~urdfinertia.descriptions.urdf.read.MAX_MAGNITUDE`), which the
+the readers' range (:func:`~urdfinertia.descriptions.urdf.read.in_range`), which the
 lenient readers let through for the linters to judge; past it, products of the maths
 overflow (a kept mass of 1e307 did, in ``check``).
 """
@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from urdfinertia.descriptions.model import Inertial
-from urdfinertia.descriptions.urdf.read import MAX_MAGNITUDE
+from urdfinertia.descriptions.urdf.read import MAX_MAGNITUDE, in_range
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.rotation import rpy_matrix
 from urdfinertia.inertia.validity import TensorDiagnosis, diagnose_tensor
@@ -50,8 +50,9 @@ class RawInertial:
 
     @property
     def mass_ok(self) -> bool:
-        """Positive, finite and within the readers' range: a mass to compute with."""
-        return bool(np.isfinite(self.mass) and 0 < self.mass <= MAX_MAGNITUDE)
+        """Positive, finite and within the readers' range (not subnormal): a mass to
+        compute with."""
+        return bool(np.isfinite(self.mass) and self.mass > 0 and in_range(float(self.mass)))
 
     @property
     def com_ok(self) -> bool:

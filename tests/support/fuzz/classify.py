@@ -38,10 +38,14 @@ DEFECTS = CLASSES[:7]
 
 @dataclass(frozen=True)
 class Outcome:
+    """One run's class; ``known``: the :data:`KNOWN` tag of a defect whose cause is in
+    code being rewritten (reproduced by a strict xfail), "" for any other."""
+
     command: str
     cls: str
     detail: str
     run: RunResult
+    known: str = ""
 
 
 # --- reading an output back (runs in a forked child) ---------------------------------
@@ -124,8 +128,8 @@ def classify(command: str, run: RunResult, *, before: dict[str, str],
     """The class of one run (module doc); ``output`` is the description it was to write
     (None for ``check``), ``inspected`` what :func:`inspect_output` said of it."""
 
-    def result(cls: str, detail: str = "") -> Outcome:
-        return Outcome(command, cls, detail, run)
+    def result(cls: str, detail: str = "", known: str = "") -> Outcome:
+        return Outcome(command, cls, detail, run, known)
 
     err = run.stderr
     if run.timed_out:
@@ -142,9 +146,9 @@ def classify(command: str, run: RunResult, *, before: dict[str, str],
         half = _half_written(run, out_dir, output, inspected)
         if half:
             return result("half-written", half)
-        invalid = _invalid(run, out_dir, output, inspected)
+        invalid, tag = _invalid(run, out_dir, output, inspected)
         if invalid:
-            return result("output-invalid", invalid)
+            return result("output-invalid", invalid, tag)
     located = _unlocated(err, xml)
     if located:
         return result("no-location", located)
@@ -181,25 +185,57 @@ def _half_written(run: RunResult, out_dir: Path, output: Path,
 
 
 def _invalid(run: RunResult, out_dir: Path, output: Path,
-             inspected: dict[str, Any] | None) -> str:
+             inspected: dict[str, Any] | None) -> tuple[str, str]:
+    """Why the output is invalid ("" when it is not) and the :data:`KNOWN` tag of it."""
     if run.code not in (0, 1) or inspected is None:
-        return ""
-    left = set()
+        return "", ""
+    left: set[str] = set()
+    status: dict[str, str] = {}
     json_path = output.with_name(output.stem + ".json")
     try:
-        left = {entry["link"] for entry in json.loads(json_path.read_text())["links_left"]}
+        doc = json.loads(json_path.read_text())
+        left = {entry["link"] for entry in doc["links_left"]}
+        status = {entry["link"]: entry["status"] for entry in doc["links"]}
     except (OSError, ValueError, KeyError, TypeError):
         pass
     bad = {name: why for name, why in inspected["links"].items()
            if run.code == 0 or name not in left}
     if bad:
         name = sorted(bad)[0]
-        return f"{len(bad)} link(s) invalid, e.g. '{name}': {'; '.join(bad[name])}"[:300]
+        derived = [n for n in bad if status.get(n) == "recomputed"]
+        if not derived:
+            tag = "kept"
+        elif len(derived) == len(bad) and all(_out_of_range(why) for why in bad.values()):
+            tag = "derived-range"
+        else:
+            tag = ""
+        return (f"{len(bad)} link(s) invalid, e.g. '{name}': {'; '.join(bad[name])}"[:300],
+                tag)
     if inspected.get("strict_error"):
-        return f"fix cannot read its own output: {inspected['strict_error']}"[:300]
+        return f"fix cannot read its own output: {inspected['strict_error']}"[:300], ""
     if inspected.get("problems"):
-        return f"inertial read past in the output: {inspected['problems'][0]}"[:300]
-    return ""
+        return f"inertial read past in the output: {inspected['problems'][0]}"[:300], "kept"
+    return "", ""
+
+
+def _out_of_range(why: list[str]) -> bool:
+    """Every reason is a magnitude past the readers' range, or moments that underflowed
+    (a derived tensor scaled by a mass near the smallest one)."""
+    def underflow(reason: str) -> bool:
+        numbers = re.findall(r"-?[0-9.]+e[-+][0-9]+|-?[0-9.]+", reason.split("[", 1)[-1])
+        return "[" in reason and all(abs(float(x)) < 1e-290 for x in numbers)
+
+    return all(r.startswith("beyond") or underflow(r) for r in why)
+
+
+#: Defects the fuzzer still finds whose cause is in code being rewritten (``link/``,
+#: ``cli/``): the tag :func:`classify` gives them -> the strict xfail reproducing it.
+KNOWN = {
+    "kept": "tests/test_fuzz_regressions.py::"
+            "test_an_ignored_value_is_not_written_back_with_exit_0",
+    "derived-range": "tests/test_fuzz_regressions.py::"
+                     "test_derived_values_stay_within_what_the_readers_accept",
+}
 
 
 def _unlocated(err: str, xml: bool) -> str:

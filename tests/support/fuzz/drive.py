@@ -21,6 +21,11 @@ class CaseResult:
     def defects(self) -> list[Outcome]:
         return [o for o in self.outcomes if o.cls in DEFECTS]
 
+    @property
+    def unknown_defects(self) -> list[Outcome]:
+        """Defects not reproduced by a strict xfail of code being rewritten."""
+        return [o for o in self.defects if not o.known]
+
 
 def run_case(runner: Runner, case: Case, work: Path, keep: bool = False,
              only: Iterable[str] = COMMANDS) -> CaseResult:

@@ -41,6 +41,11 @@ def format_table(results: Sequence[CaseResult]) -> str:
             lines.append(f"{cls:<{width}}" + "".join(f"{n:>10}" for n in row)
                          + f"{sum(row):>10}")
         lines.append("")
+    known = known_counts(results)
+    if known:
+        lines.append("of the defects above, reproduced by strict xfails of code being "
+                     "rewritten: " + ", ".join(f"{c} {tag} x{n}"
+                                              for (c, tag), n in sorted(known.items())))
     lines.append(resources(results))
     return "\n".join(lines)
 
@@ -56,7 +61,16 @@ def resources(results: Sequence[CaseResult]) -> str:
     return "slowest run and peak memory per format: " + "; ".join(parts)
 
 
-def defect_lines(results: Sequence[CaseResult]) -> list[str]:
-    """One line per defective run: the case, the command, the class and why."""
-    return [f"{r.case.label} {o.command}: {o.cls}: {o.detail}"
-            for r in results for o in r.outcomes if o.cls in DEFECTS]
+def defect_lines(results: Sequence[CaseResult], known: bool = True) -> list[str]:
+    """One line per defective run: the case, the command, the class and why (``known``:
+    also those a strict xfail reproduces, marked so)."""
+    return [f"{r.case.label} {o.command}: {o.cls}: "
+            f"{f'(known: {o.known}) ' if o.known else ''}{o.detail}"
+            for r in results for o in r.outcomes
+            if o.cls in DEFECTS and (known or not o.known)]
+
+
+def known_counts(results: Sequence[CaseResult]) -> Counter[tuple[str, str]]:
+    """(command, known tag) -> defective runs a strict xfail reproduces."""
+    return Counter((o.command, o.known) for r in results for o in r.outcomes
+                   if o.cls in DEFECTS and o.known)

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from urdfinertia.descriptions.model import Origin, Problem, Robot
 from urdfinertia.descriptions.urdf.read import (
-    MAX_MAGNITUDE,
+    in_range,
     parse_xml,
     read_urdf_bytes,
     robot_from_element,
@@ -57,7 +57,7 @@ def _non_finite(text: str | None) -> tuple[float, ...] | None:
         values = tuple(float(p) for p in text.split())
     except ValueError:
         return None  # not numbers at all: the strict reader reports it
-    readable = all(math.isfinite(v) and abs(v) <= MAX_MAGNITUDE for v in values)
+    readable = all(math.isfinite(v) and in_range(v) for v in values)
     return None if readable else values
 
 
