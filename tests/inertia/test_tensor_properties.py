@@ -157,3 +157,22 @@ def test_extreme_diagonal_tensors_are_judged_not_crashed(value):
     assert d.finite and d.valid
     assert math.isclose(d.moments[2], value)
     assert MassProperties(1.0, np.zeros(3), np.diag([value] * 3)).is_physical()
+
+
+@PROFILE
+@given(st.lists(moment_tensors(), min_size=2, max_size=4),
+       st.lists(st.floats(1e-3, 1e3), min_size=4, max_size=4),
+       st.lists(st.tuples(unit_float, unit_float, unit_float), min_size=4, max_size=4),
+       rotations(), st.tuples(unit_float, unit_float, unit_float))
+def test_combine_turns_and_shifts_with_its_parts(tensors, masses, coms, r, shift):
+    """Combining then moving rigidly equals moving each part then combining: the link's
+    tensor does not depend on the frame its parts were summed in."""
+    parts = [MassProperties(m, np.array(c) * 10, repair_tensor(t).tensor)
+             for t, m, c in zip(tensors, masses, coms, strict=False)]
+    offset = np.array(shift) * 5
+    whole = combine(parts).rotated(r).translated(offset)
+    moved = combine(p.rotated(r).translated(offset) for p in parts)
+    scale = max(masses) * 300 + max(np.abs(t).max() for t in tensors)
+    np.testing.assert_allclose(moved.mass, whole.mass, rtol=1e-12)
+    np.testing.assert_allclose(moved.com, whole.com, atol=1e-9 * 20)
+    np.testing.assert_allclose(moved.inertia, whole.inertia, rtol=0, atol=RTOL * scale)

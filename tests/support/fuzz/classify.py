@@ -117,7 +117,7 @@ def inertial_problems(inertial: Any) -> list[str]:
 _PREFIXES = ("urdf-inertia: error: ", "urdf-inertia: warning: ",
              "urdf-inertia: left as it was: ", "urdf-inertia: internal error: ")
 #: FILE[:LINE]: at the start of a message
-_LOCATION = re.compile(r"^(?P<file>[^\s:][^:]*?)(?::(?P<line>\d+))?: ")
+_LOCATION = re.compile(r"^(?P<file>[^\s:]*[/.][^\s:]*)(?::(?P<line>\d+))?: ")
 #: stderr lines of the tool that are not error or warning lines
 _OWN = re.compile(r"^(urdf-inertia: |total mass |warning: total mass |\s*$)")
 
