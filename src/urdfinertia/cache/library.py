@@ -56,18 +56,30 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
             raise MeshError(hit.cause, code=hit.code)
         if hit is not None:
             return hit
-    with timer.stage("mesh read"):
-        mesh = (read or load_mesh)(path, max_faces)
+    try:
+        with timer.stage("mesh read"):
+            mesh = (read or load_mesh)(path, max_faces)
+    except MemoryError:
+        raise _out_of_memory(path, "reading") from None
     try:
         found: MeshSolids | MeshError = integrate_mesh(mesh, timer)
     except MeshError as exc:
         found = exc
+    except MemoryError:  # this mesh's error, the rest of the run goes on (never cached)
+        found = _out_of_memory(path, f"repairing its {len(mesh.faces)} faces")
     if cache is not None:
         with timer.stage("cache"):
             cache.store_mesh(key, path, found, len(mesh.faces))
     if isinstance(found, MeshError):
         raise found
     return found
+
+
+def _out_of_memory(path: Path, doing: str) -> MeshError:
+    """A mesh that ran the process out of memory, as that mesh's error (with its path:
+    a run out of memory named no file). Not a property of its bytes alone."""
+    return MeshError(f"mesh {path}: out of memory {doing} (a smaller --max-faces refuses "
+                     "large meshes before reading them)", code="mesh-too-large")
 
 
 #: ``reduce(vertices, faces, max_faces) -> (vertices, faces, how)`` of
