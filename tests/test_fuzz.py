@@ -13,7 +13,8 @@ strict xfail (:data:`support.fuzz.classify.KNOWN`, ``tests/test_fuzz_regressions
 synthetic robot (``tests/data/fuzz``) also runs ``fix --strict``: all or nothing.
 
 The first tests check the classifier itself on runs made to fail each way, so that a
-clean slice means the defects were looked for.
+clean slice means the defects were looked for; :data:`REPLAYS` runs again the cases of the
+long run on which the code before its fixes crashed, hung or named no file.
 """
 
 from __future__ import annotations
@@ -32,10 +33,18 @@ from support.fuzz.table import defect_lines
 SEED = 20240611
 #: Cases per format: about a minute of CPU in all (most runs take a fraction of a second
 #: in the warm fork server; a mesh case computes its mesh cold).
-PER_FORMAT = {"urdf": 5, "xacro": 4, "sdf": 4, "mjcf": 4, "usd": 3, "stl": 3,
-              "stl-ascii": 2, "obj": 3, "dae": 4, "ply": 2, "glb": 3}
+PER_FORMAT = {"urdf": 4, "xacro": 3, "sdf": 3, "mjcf": 3, "usd": 3, "stl": 2,
+              "stl-ascii": 2, "obj": 2, "dae": 3, "ply": 2, "glb": 2}
 #: Cases of the synthetic robot, each also under fix --strict (the old in-process fuzz).
-INLINE_CASES = 12
+INLINE_CASES = 10
+#: (generator seed, case) of the long run (``scripts/fuzz.py --seed S --cases 300``) where
+#: the code before its fixes failed, one per cause: a USD layer whose message is not UTF-8,
+#: an empty sublayer, a sublayer /dev/zero, a kept mass of 1e307 in check, moments of 1e308
+#: ("Eigenvalues did not converge"), an MJCF include that is a link loop, random triangle
+#: soups (hangs of minutes, gigabytes, out of memory), trimesh's traceback on a COLLADA
+#: texture, an MJCF include name too long.
+REPLAYS = [(1, 99), (1, 107), (1, 146), (1, 122), (1, 253), (1, 284), (1, 7), (2, 137),
+           (2, 211), (2, 246), (2, 32)]
 TIMEOUT = 40.0
 
 
@@ -136,6 +145,15 @@ def test_fuzz_slice(fmt, runner, tmp_path):
     assert not defects, "\n".join(defects)
     seen = {o.cls for r in results for o in r.outcomes}
     assert seen <= set(CLASSES)
+
+
+@pytest.mark.corpus
+@pytest.mark.parametrize(("seed", "index"), REPLAYS)
+def test_fuzz_cases_the_long_run_found(seed, index, runner, tmp_path):
+    case = make_case(seed, index)
+    result = run_case(runner, case, tmp_path)
+    defects = defect_lines([result], known=False)
+    assert not defects, "\n".join(defects)
 
 
 def test_fuzz_inline_robot_with_strict(runner, tmp_path):
