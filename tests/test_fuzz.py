@@ -1,191 +1,178 @@
-"""Fuzz ``urdf-inertia fix`` with mutated valid URDFs: only documented outcomes happen.
+"""A seeded slice of the fuzzer (:mod:`support.fuzz`; the long run is ``scripts/fuzz.py``).
 
-Each case mutates a small valid URDF (byte flips, truncation, deleted attributes, swapped
-tags, huge or tiny numbers, duplicated elements) and runs the CLI in-process. Allowed
-outcomes with ``--strict``: exit 0 with an output that reads back as a URDF, or exit 2 with
-one line on stderr; without it, also exit 1 (written, some links left as they were).
-Never an internal error (exit 3), a traceback, a changed input or a stray file.
-The cases come from a fixed seed, so a failure names a reproducible case id.
+Every format's real seeds are mutated (byte flips, truncation, elements and attributes
+deleted or duplicated, NaN/inf/1e308/1e-320/-0, huge strings, unicode, negative masses,
+empty and duplicate names, joint cycles, mesh paths to /etc/passwd, folders, FIFOs,
+sparse files, symbolic-link loops, entity bombs; for meshes NaN and huge coordinates,
+triangle soups, degenerate faces, absurd units ...) and ``check``, ``fix`` and
+``fix --all`` run on each mutant in a forked child under a timeout. Every run must end in
+a documented outcome (:mod:`support.fuzz.classify`): no crash, hang, modified input,
+half-written or invalid output, message without its file, or library noise; the only
+defects let through are those whose cause is in code being rewritten, each reproduced by a
+strict xfail (:data:`support.fuzz.classify.KNOWN`, ``tests/test_fuzz_regressions.py``). The small
+synthetic robot (``tests/data/fuzz``) also runs ``fix --strict``: all or nothing.
+
+The first tests check the classifier itself on runs made to fail each way, so that a
+clean slice means the defects were looked for; :data:`REPLAYS` runs again the cases of the
+long run on which the code before its fixes crashed, hung or named no file.
 """
 
 from __future__ import annotations
 
-import random
-import re
-import struct
+import json
 from pathlib import Path
 
-import numpy as np
 import pytest
-
-from urdfinertia import cli
-from urdfinertia.descriptions.urdf.read import read_urdf
+from support.fuzz.cases import make_case, make_cases
+from support.fuzz.classify import CLASSES, classify, inspect_output
+from support.fuzz.drive import run_case
+from support.fuzz.runner import Runner, RunResult
+from support.fuzz.seeds import DESCRIPTION_FORMATS, MESH_FORMATS
+from support.fuzz.table import defect_lines
 
 SEED = 20240611
-CASES = 240
-
-BASE = """<?xml version="1.0"?>
-<robot name="fuzz">
-  <link name="base">
-    <inertial>
-      <origin xyz="0.01 0 0" rpy="0 0 0"/>
-      <mass value="2"/>
-      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/>
-    </inertial>
-    <collision>
-      <origin xyz="0 0 0.1" rpy="0 0.3 0"/>
-      <geometry><box size="0.1 0.2 0.3"/></geometry>
-    </collision>
-    <collision>
-      <geometry><sphere radius="0.05"/></geometry>
-    </collision>
-  </link>
-  <link name="arm">
-    <visual>
-      <origin xyz="0 0 0.2" rpy="1.57 0 0"/>
-      <geometry><cylinder radius="0.04" length="0.4"/></geometry>
-    </visual>
-    <collision>
-      <geometry><mesh filename="cube.stl" scale="1 2 1"/></geometry>
-    </collision>
-  </link>
-  <link name="tool"/>
-  <joint name="j1" type="revolute">
-    <parent link="base"/><child link="arm"/>
-    <origin xyz="0 0 0.3" rpy="0 0 0"/>
-  </joint>
-  <joint name="j2" type="fixed"><parent link="arm"/><child link="tool"/></joint>
-</robot>
-"""
-
-HUGE = ["1e308", "-1e308", "1e-320", "1e400", "9" * 400, "0", "-0", "1e-300", "5e-324",
-        "1e30", "-1e30", "1e15", "NaN", "-inf", "", "1,5", "0x10", "1e", "."]
-TAGS = ["link", "joint", "inertial", "collision", "visual", "geometry", "origin", "mass",
-        "inertia", "box", "sphere", "cylinder", "mesh", "robot", "capsule", "parent"]
-
-
-def cube_stl(size: float = 0.1) -> bytes:
-    import trimesh
-
-    mesh = trimesh.creation.box((size, size, size))
-    tri = mesh.vertices[mesh.faces].astype(np.float32)
-    out = bytearray(b"\0" * 80 + struct.pack("<I", len(tri)))
-    for t in tri:
-        out += struct.pack("<3f", 0, 0, 0) + t.tobytes() + b"\0\0"
-    return bytes(out)
-
-
-def mutate(data: bytes, rng: random.Random) -> tuple[str, bytes]:
-    """One random mutation of ``data``; returns its kind (for failure messages)."""
-    kind = rng.choice(["flip", "truncate", "delete_attr", "swap_tags", "rename_tag", "number",
-                       "duplicate", "splice"])
-    if len(data) < 2:
-        return "append", data + b"<"
-    if kind == "flip":
-        return mutate_flip(data, rng)
-    if kind == "truncate":
-        return kind, data[: rng.randrange(len(data))]
-    if kind == "delete_attr":
-        spans = [m.span() for m in re.finditer(rb'\s[a-z_]+="[^"]*"', data)]
-        if not spans:
-            return mutate_flip(data, rng)
-        start, end = rng.choice(spans)
-        return kind, data[:start] + data[end:]
-    if kind == "swap_tags":
-        names = [m for m in re.finditer(rb"<(/?)([a-z_]+)", data)]
-        if len(names) < 2:
-            return mutate_flip(data, rng)
-        a, b = rng.sample(names, 2)
-        (s1, e1), (s2, e2) = sorted([a.span(2), b.span(2)])
-        return kind, data[:s1] + data[s2:e2] + data[e1:s2] + data[s1:e1] + data[e2:]
-    if kind == "rename_tag":
-        old, new = rng.sample(TAGS, 2)
-        return kind, data.replace(f"<{old}".encode(), f"<{new}".encode(), 1)
-    if kind == "number":
-        spans = [m.span() for m in re.finditer(rb"-?[0-9]+(?:\.[0-9]+)?", data)]
-        if not spans:
-            return mutate_flip(data, rng)
-        start, end = rng.choice(spans)
-        return kind, data[:start] + rng.choice(HUGE).encode() + data[end:]
-    if kind == "duplicate":
-        elems = [m.span() for m in re.finditer(rb"<(link|joint|collision|inertial)\b.*?</\1>",
-                                               data, re.DOTALL)]
-        if not elems:
-            return mutate_flip(data, rng)
-        start, end = rng.choice(elems)
-        return kind, data[:end] + data[start:end] + data[end:]
-    start = rng.randrange(len(data))  # splice: a piece of the document somewhere else
-    piece = data[start: start + rng.randint(1, 60)]
-    at = rng.randrange(len(data))
-    return kind, data[:at] + piece + data[at:]
-
-
-def mutate_flip(data: bytes, rng: random.Random) -> tuple[str, bytes]:
-    out = bytearray(data)
-    for _ in range(rng.randint(1, 4)):
-        out[rng.randrange(len(out))] = rng.randrange(256)
-    return "flip", bytes(out)
-
-
-def cases() -> list[tuple[int, str, bytes]]:
-    rng = random.Random(SEED)
-    base = BASE.encode()
-    out = []
-    for i in range(CASES):
-        data = base
-        kinds = []
-        for _ in range(rng.choice([1, 1, 1, 2, 3])):
-            kind, data = mutate(data, rng)
-            kinds.append(kind)
-        out.append((i, "+".join(kinds), data))
-    return out
+#: Cases per format: about a minute of CPU in all (most runs take a fraction of a second
+#: in the warm fork server; a mesh case computes its mesh cold).
+PER_FORMAT = {"urdf": 4, "xacro": 3, "sdf": 3, "mjcf": 3, "usd": 3, "stl": 2,
+              "stl-ascii": 2, "obj": 2, "dae": 3, "ply": 2, "glb": 2}
+#: Cases of the synthetic robot, each also under fix --strict (the old in-process fuzz).
+INLINE_CASES = 10
+#: (generator seed, case) of the long run (``scripts/fuzz.py --seed S --cases 300``) where
+#: the code before its fixes failed, one per cause: a USD layer whose message is not UTF-8,
+#: an empty sublayer, a sublayer /dev/zero, a kept mass of 1e307 in check, moments of 1e308
+#: ("Eigenvalues did not converge"), an MJCF include that is a link loop, random triangle
+#: soups (hangs of minutes, gigabytes, out of memory), trimesh's traceback on a COLLADA
+#: texture, an MJCF include name too long.
+REPLAYS = [(1, 99), (1, 107), (1, 146), (1, 122), (1, 253), (1, 284), (1, 7), (2, 137),
+           (2, 211), (2, 246), (2, 32)]
+TIMEOUT = 40.0
 
 
 @pytest.fixture(scope="module")
-def fuzz_dir(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("fuzz")
-    (folder / "cube.stl").write_bytes(cube_stl())
-    return folder
+def runner(tmp_path_factory):
+    cache = tmp_path_factory.mktemp("fuzz-cache")
+    with Runner(timeout=TIMEOUT, memory_mb=4096,
+                env={"URDFINERTIA_CACHE_DIR": str(cache)}) as server:
+        yield server
 
 
-def test_base_document_is_valid(fuzz_dir, capsys, monkeypatch):
-    """The starting point succeeds, so every failure below comes from the mutation."""
-    monkeypatch.setenv("URDFINERTIA_CACHE_DIR", str(fuzz_dir / "cache"))
-    urdf = fuzz_dir / "base.urdf"
-    urdf.write_text(BASE)
-    assert cli.main(["fix", str(urdf), "-o", str(fuzz_dir / "base.out"), "-q",
-                     "--no-cache"]) == 0, capsys.readouterr().err
+# --- the classifier finds each defect ------------------------------------------------
+
+def _run(code: int | None = 0, stderr: str = "", timed_out: bool = False,
+         sig: int | None = None) -> RunResult:
+    return RunResult(code, sig, timed_out, 0.1, 0.1, 50.0, "", stderr)
 
 
-@pytest.mark.parametrize("strict", [True, False], ids=["strict", "isolating"])
-def test_mutated_urdfs_fail_only_with_documented_errors(strict, fuzz_dir, capsys,
-                                                         monkeypatch):
-    monkeypatch.setenv("URDFINERTIA_CACHE_DIR", str(fuzz_dir / "cache"))
-    outcomes = {0: 0, 1: 0, 2: 0}
-    allowed = (0, 2) if strict else (0, 1, 2)
-    for i, kinds, data in cases():
-        case = fuzz_dir / f"case{i}{'s' if strict else 'i'}"
-        case.mkdir()
-        (case / "cube.stl").write_bytes((fuzz_dir / "cube.stl").read_bytes())
-        urdf = case / "r.urdf"
-        urdf.write_bytes(data)
-        out = case / "out.urdf"
-        code = cli.main(["fix", str(urdf), "-o", str(out), "-q", "--no-cache",
-                         *(["--strict"] if strict else [])])
-        captured = capsys.readouterr()
-        where = f"case {i} ({kinds}): exit {code}: {captured.err!r}"
-        assert code in allowed, where
-        assert urdf.read_bytes() == data, where
-        assert "Traceback" not in captured.err, where
-        names = sorted(p.name for p in case.iterdir())
-        if code == 2:
-            lines = captured.err.splitlines()
-            assert len(lines) == 1 and lines[0].startswith("urdf-inertia: error: "), where
-            assert names == ["cube.stl", "r.urdf"], where
-        else:
-            assert names == ["cube.stl", "out.urdf", "r.urdf"], where
-            read_urdf(out)  # a successful output is itself a valid URDF
-        outcomes[code] += 1
-    # the mutations must exercise both outcomes, or the test checks nothing
-    assert outcomes[0] > 10 and outcomes[2] > 10, outcomes
+GOOD_URDF = """<robot name="r"><link name="a"><inertial><mass value="1"/>
+<inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link></robot>"""
 
+
+def _classify(tmp_path: Path, run: RunResult, *, urdf: str | None = GOOD_URDF,
+              before=None, after=None, extra: str | None = None) -> str:
+    out = tmp_path / "out"
+    out.mkdir(parents=True, exist_ok=True)
+    output = out / "fix.urdf"
+    inspected = None
+    if urdf is not None:
+        output.write_text(urdf)
+        (out / "fix.json").write_text(json.dumps({"links_left": []}))
+        inspected = inspect_output(output)
+    if extra:
+        (out / extra).write_text("x")
+    return classify("fix", run, before=before or {}, after=after or {}, out_dir=out,
+                    output=output, inspected=inspected, xml=True).cls
+
+
+def test_classifier_ok_and_clean_error(tmp_path):
+    assert _classify(tmp_path / "a", _run(0)) == "ok"
+    assert _classify(tmp_path / "b", _run(2, "urdf-inertia: error: r.urdf:3: bad"),
+                     urdf=None) == "clean-error"
+
+
+@pytest.mark.parametrize(("run", "expected"), [
+    (_run(3, "urdf-inertia: internal error: ValueError: x (this is a bug; ...)"), "crash"),
+    (_run(0, "Traceback (most recent call last):\n  File ..."), "crash"),
+    (_run(None, sig=11), "crash"),
+    (_run(70), "crash"),
+    (_run(None, timed_out=True, sig=14), "hang"),
+    (_run(0, "urdf-inertia: warning: link 'a' has no mass"), "no-location"),
+    (_run(0, "urdf-inertia: warning: r.urdf: link 'a': no line"), "no-location"),
+    (_run(0, "WARNING:trimesh:unable to load emissive texture"), "noise"),
+])
+def test_classifier_finds_defects(tmp_path, run, expected):
+    assert _classify(tmp_path, run) == expected
+
+
+@pytest.mark.parametrize("inertia", [
+    'ixx="nan" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"',
+    'ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="3"',  # A + B < C
+    'ixx="1" ixy="2" ixz="0" iyy="1" iyz="0" izz="1"',  # not positive definite
+    'ixx="1e12" ixy="0" ixz="0" iyy="1e12" iyz="0" izz="1e12"',  # beyond the readers
+    'ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"',  # a point mass
+])
+def test_classifier_reads_outputs_back(tmp_path, inertia):
+    urdf = GOOD_URDF.replace('ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"', inertia)
+    assert _classify(tmp_path, _run(0), urdf=urdf) == "output-invalid"
+
+
+def test_classifier_finds_written_failures(tmp_path):
+    assert _classify(tmp_path / "a", _run(0), extra=".fix.urdf.x1y2.tmp") == "half-written"
+    assert _classify(tmp_path / "b", _run(2, "urdf-inertia: error: r.urdf: x")) \
+        == "half-written"  # exit 2, yet the output is there
+    assert _classify(tmp_path / "c", _run(0), urdf="<robot name='r'><link") == "half-written"
+    assert _classify(tmp_path / "d", _run(0), before={"r.urdf": "1"},
+                     after={"r.urdf": "2"}) == "input-modified"
+
+
+def test_cases_are_reproducible():
+    """A case is drawn from the seed and its index alone."""
+    again = make_case(SEED, 7)
+    assert make_cases(SEED, 8)[7] == again
+    assert make_case(SEED + 1, 7) != again
+
+
+# --- the slice ---------------------------------------------------------------------
+
+@pytest.mark.corpus
+@pytest.mark.parametrize("fmt", [*DESCRIPTION_FORMATS, *MESH_FORMATS])
+def test_fuzz_slice(fmt, runner, tmp_path):
+    try:
+        cases = make_cases(SEED, PER_FORMAT[fmt], formats=(fmt,))
+    except ValueError:
+        pytest.skip(f"no {fmt} seed installed")
+    results = [run_case(runner, case, tmp_path) for case in cases]
+    defects = defect_lines(results, known=False)
+    assert not defects, "\n".join(defects)
+    seen = {o.cls for r in results for o in r.outcomes}
+    assert seen <= set(CLASSES)
+
+
+@pytest.mark.corpus
+@pytest.mark.parametrize(("seed", "index"), REPLAYS)
+def test_fuzz_cases_the_long_run_found(seed, index, runner, tmp_path):
+    case = make_case(seed, index)
+    result = run_case(runner, case, tmp_path)
+    defects = defect_lines([result], known=False)
+    assert not defects, "\n".join(defects)
+
+
+def test_fuzz_inline_robot_with_strict(runner, tmp_path):
+    """The synthetic robot (every primitive and a mesh): also all or nothing under
+    --strict, and both a written output and a refusal occur (the slice tests both)."""
+    from support.fuzz.cases import COMMANDS
+    from support.fuzz.seeds import description_seeds
+
+    inline = [s for s in description_seeds() if s.name == "inline/base"]
+    assert inline, "tests/data/fuzz is missing"
+    results = []
+    index = 0
+    while len(results) < INLINE_CASES:
+        case = make_case(SEED, index, formats=("urdf",))
+        index += 1
+        if case.seed == "inline/base":
+            results.append(run_case(runner, case, tmp_path,
+                                    only=(*COMMANDS, "fix-strict")))
+    defects = defect_lines(results, known=False)
+    assert not defects, "\n".join(defects)
+    strict = [o.cls for r in results for o in r.outcomes if o.command == "fix-strict"]
+    assert "ok" in strict and "clean-error" in strict, strict

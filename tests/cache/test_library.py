@@ -367,3 +367,29 @@ def test_a_warm_check_runs_no_qhull(sphere_stl, tmp_path, monkeypatch, jobs):
                  str(tmp_path / "2.json")]) == first
     assert hulls
     assert (tmp_path / "1.json").read_bytes() == (tmp_path / "2.json").read_bytes()
+
+
+def test_a_mesh_that_runs_out_of_memory_is_its_own_error_with_its_path(box_stl, tmp_path,
+                                                                       monkeypatch, capsys):
+    """Found by fuzzing: a 12,000-triangle soup ran the repair out of memory, and the run
+    ended with "out of memory" naming no file. It is now that mesh's error (the link is
+    left, the rest is done), not cached: another machine may have the memory."""
+    from urdfinertia import cli
+
+    def exhausted(mesh, timer=None, seconds=-1.0):
+        raise MemoryError
+
+    monkeypatch.setattr(meshlib, "repair_mesh", exhausted)
+    cache = SolidsCache(tmp_path / "cache")
+    with pytest.raises(MeshError, match="out of memory repairing") as found:
+        mesh_file_solids(box_stl, cache=cache)
+    assert str(box_stl) in found.value.cause and not found.value.of_bytes
+    robot = tmp_path / "r.urdf"
+    robot.write_text('<robot name="r"><link name="a"/><link name="b"><collision><geometry>'
+                     f'<mesh filename="{box_stl}"/></geometry></collision></link>'
+                     '<joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+                     '<limit effort="1" velocity="1"/></joint></robot>')
+    code = cli.main(["fix", str(robot), "-o", str(tmp_path / "out.urdf"), "-q", "--no-cache"])
+    err = capsys.readouterr().err
+    assert code == 1, err
+    assert f"{box_stl}: out of memory" in err and "link 'b'" in err

@@ -71,6 +71,25 @@ def test_out_of_range_drops_the_element(text):
     assert r.links[0].collisions == () and "out of range" in only_problem(r).message
 
 
+@pytest.mark.parametrize(("m", "i"), [("1e-320", "1"), ("1", "5e-324"), ("-4e-310", "1")])
+def test_a_subnormal_value_is_out_of_range(m, i):
+    """Found by fuzzing: a kept mass of 1e-320 kg gave a written tensor of principal
+    moments (0, 3.5e-323, 3.5e-323), not positive definite. A subnormal is what an
+    underflow leaves, never a stated quantity: read as written, it is no value to compute
+    with, and the verdict does not keep it."""
+    from urdfinertia.body.options import FixOptions
+    from urdfinertia.descriptions.inertial import RawInertial
+    from urdfinertia.plan.fix import verdicts
+
+    r = robot('<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>',
+              INERTIAL.format(m=m, i=i))
+    raw = RawInertial.from_inertial(r.links[0].inertial)
+    assert not (raw.mass_ok and raw.tensor_in_range)
+    (link,) = verdicts(r, FixOptions()).links
+    assert link.action != "keep" and link.after is not None and link.after.is_physical()
+    assert robot("", INERTIAL.format(m="2.3e-308", i="1e-300")).links[0].inertial.mass > 0
+
+
 def test_largest_magnitude_accepted():
     assert box(f"{MAX_MAGNITUDE:g} 1 1").links[0].collisions[0].shape.size[0] == MAX_MAGNITUDE
 

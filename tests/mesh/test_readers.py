@@ -786,3 +786,52 @@ def test_collada_document_freed_when_read(monkeypatch, case):
         if enabled:
             gc.enable()
     assert (pieces is None) == (case == "no-scene")  # read, or handed over
+
+
+# --- found by fuzzing: absurd units and NaN coordinates read without a word ------------
+
+@pytest.mark.parametrize("unit", ["0", "-1", "nan", "", "abc", "inf", "-0.001"])
+def test_dae_absurd_unit_is_an_error_not_read_as_metres(tmp_path, unit):
+    """``<unit meter="0">``, ``"-1"`` and ``"nan"`` were read as 1 (18 fuzz mutants)."""
+    path = write(tmp_path, "u.dae", collada(TRIANGLES, unit=unit))
+    with pytest.raises(MeshError, match="not a positive length") as found:
+        mesh_io.load_mesh(path)
+    assert found.value.code == "geometry-unreadable" and found.value.of_bytes
+
+
+def test_dae_nan_coordinate_is_an_error_not_a_vertex_at_the_origin(tmp_path):
+    """pycollada reads NaN as 0: one NaN coordinate moved a vertex (mass -18 %, no word).
+    NaN among the normals stays harmless."""
+    nan_position = collada(TRIANGLES).replace(POSITIONS, POSITIONS.replace("0.5 0.5 1",
+                                                                           "0.5 nan 1"))
+    with pytest.raises(MeshError, match="non-finite vertex coordinates"):
+        mesh_io.load_mesh(write(tmp_path, "p.dae", nan_position))
+    nan_normal = collada(TRIANGLES).replace(NORMALS, NORMALS.replace("0.7 0 0.7",
+                                                                     "nan 0 0.7"))
+    assert len(mesh_io.load_mesh(write(tmp_path, "n.dae", nan_normal)).faces) == 4
+
+
+def test_library_noise_while_reading_is_a_debug_line_not_a_traceback(tmp_path, caplog):
+    """trimesh logs a COLLADA material's emission texture it cannot load with its
+    traceback: with no logging configured (a user's run, not pytest's), Python printed it
+    on stderr (PR2's COLLADA files printed 15 during ``check``). It is now an
+    ``urdfinertia`` debug record, shown by ``--debug``."""
+    import logging
+
+    from support.fuzz.meshes import EMISSION_LIBRARIES
+
+    text = collada(TRIANGLES, extra=EMISSION_LIBRARIES.decode())
+    path = write(tmp_path, "textured.dae", text)
+    with caplog.at_level(logging.DEBUG, logger="urdfinertia"):
+        assert len(mesh_io.load_mesh(path).faces) == 4
+    assert any("emissive texture" in r.getMessage() for r in caplog.records)
+    robot = write(tmp_path, "r.urdf", '<robot name="r"><link name="a"/><link name="b">'
+                  '<collision><geometry><mesh filename="textured.dae"/></geometry>'
+                  '</collision></link><joint name="j" type="revolute"><parent link="a"/>'
+                  '<child link="b"/><limit effort="1" velocity="1"/></joint></robot>')
+    for debug in ([], ["--debug"]):
+        done = subprocess.run([sys.executable, "-m", "urdfinertia", *debug, "check",
+                               str(robot), "-q", "--no-cache"], capture_output=True,
+                              text=True, timeout=120)
+        assert "Traceback" not in done.stderr, done.stderr
+        assert ("emissive texture" in done.stderr) == bool(debug), done.stderr

@@ -218,7 +218,7 @@ def lumped_findings(group: FixedGroup, robot: Robot) -> list[Finding]:
                 mp = MassProperties(r.mass, r.com, r.inertia).transformed(pose)
         except (ValueError, FloatingPointError, np.linalg.LinAlgError):
             mp = None
-        if mp is None or not r.mass_ok:
+        if mp is None or not (r.mass_ok and r.com_ok and r.tensor_in_range):
             return [Finding(Rule.LUMPED_MASS, group.root, f"{head}; the merged body cannot "
                             "be computed: a member's inertial is invalid")]
         bodies.append(mp)

@@ -19,6 +19,7 @@ from urdfinertia.mesh.read.load import TriangleMesh, load_mesh
 from urdfinertia.mesh.repair.graph import first_occurrences
 from urdfinertia.mesh.repair.pipeline import repair_mesh
 from urdfinertia.mesh.solids import MeshSolids, integrate_repaired
+from urdfinertia.rules import Rule
 from urdfinertia.timing import StageTimes
 
 
@@ -56,12 +57,17 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
             raise MeshError(hit.cause, rule=hit.rule)
         if hit is not None:
             return hit
-    with timer.stage("mesh read"):
-        mesh = (read or load_mesh)(path, max_faces)
+    try:
+        with timer.stage("mesh read"):
+            mesh = (read or load_mesh)(path, max_faces)
+    except MemoryError:
+        raise _out_of_memory(path, "reading") from None
     try:
         found: MeshSolids | MeshError = integrate_mesh(mesh, timer)
     except MeshError as exc:
         found = exc
+    except MemoryError:  # this mesh's error, the rest of the run goes on (never cached)
+        found = _out_of_memory(path, f"repairing its {len(mesh.faces)} faces")
     if cache is not None:
         with timer.stage("cache"):
             cache.store_mesh(key, path, found, len(mesh.faces))
@@ -70,6 +76,15 @@ def mesh_file_solids(path: Path, max_faces: int = DEFAULT_MAX_FACES,
     return found
 
 
+def _out_of_memory(path: Path, doing: str) -> MeshError:
+    """A mesh that ran the process out of memory, as that mesh's error (with its path:
+    a run out of memory named no file). Not a property of its bytes alone."""
+    return MeshError(f"mesh {path}: out of memory {doing} (a smaller --max-faces refuses "
+                     "large meshes before reading them)", rule=Rule.MESH_TOO_LARGE)
+
+
+#: ``reduce(vertices, faces, max_faces) -> (vertices, faces, how)`` of
+#: :meth:`MeshLibrary.display`.
 Reducer = Callable[[np.ndarray, np.ndarray, int], tuple[np.ndarray, np.ndarray, str]]
 """`reduce(vertices, faces, max_faces) -> (vertices, faces, how)` of `MeshLibrary.display`.
 """

@@ -146,6 +146,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if mods.get(args.command) is None:  # named where _command_in does not look: all of them
         parser, mods = build_parser()
         args = parser.parse_args(argv)
+    if args.debug:  # what libraries printed while reading (urdfinertia.quiet), and more
+        _debug_log()
     try:
         from urdfinertia.cli.options import configure_descriptions
 
@@ -189,6 +191,14 @@ def missing_extra(args: argparse.Namespace, exc: ImportError) -> MissingExtraErr
         return None
     what = args.command + (" --plot" if getattr(args, "plot", None) else "")
     return MissingExtraError(what, EXTRA_OF[module], module)
+def _debug_log() -> None:
+    import logging
+
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter(f"{PROG}: debug: %(message)s"))
+    logger = logging.getLogger("urdfinertia")
+    logger.addHandler(handler)
+    logger.setLevel(logging.DEBUG)
 
 
 def _fail(args: argparse.Namespace, message: str, code: int) -> int:

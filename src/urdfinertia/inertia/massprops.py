@@ -22,7 +22,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from urdfinertia.inertia.validity import SEMIDEFINITE_RTOL, SYMMETRY_RTOL, is_valid_tensor
+from urdfinertia.inertia.validity import (
+    SEMIDEFINITE_RTOL,
+    SYMMETRY_RTOL,
+    is_valid_tensor,
+    symmetric_eigh,
+    symmetric_eigvalsh,
+    symmetric_part,
+)
 
 
 def point_mass_inertia(mass: float, offset: ArrayLike) -> np.ndarray:
@@ -81,13 +88,16 @@ class MassProperties:
                     abs(a21), abs(a22), _TINY)
         if max(abs(a01 - a10), abs(a02 - a20), abs(a12 - a21)) > SYMMETRY_RTOL * scale:
             raise ValueError("inertia tensor must be symmetric")
-        inertia = 0.5 * (inertia + inertia.T)
+        inertia = symmetric_part(inertia)
         (s00, s01, s02), (_, s11, s12), (_, _, s22) = inertia.tolist()
-        slack = SEMIDEFINITE_RTOL * abs(float(np.trace(inertia)))
+        trace = s00 + s11 + s22
+        slack = SEMIDEFINITE_RTOL * abs(trace)
+        if not math.isfinite(slack):  # entries near float64's limit: the same sum, halved
+            slack = 2.0 * SEMIDEFINITE_RTOL * abs(0.5 * s00 + 0.5 * s11 + 0.5 * s22)
         sign = 1.0 if mass >= 0 else -1.0
         if not _surely_semidefinite(sign * s00, sign * s01, sign * s02, sign * s11,
                                     sign * s12, sign * s22, slack):
-            eig = np.linalg.eigvalsh(inertia)  # near the limit: the test as specified
+            eig = symmetric_eigvalsh(inertia)  # near the limit: the test as specified
             if mass >= 0 and eig[0] < -slack:
                 raise ValueError("inertia of a positive mass must be positive semi-definite: "
                                  f"{eig}")
@@ -116,7 +126,7 @@ class MassProperties:
         inertia = np.asarray(inertia, dtype=np.float64)
         if not (math.isfinite(mass) and _finite(com) and _finite(inertia)):
             raise ValueError("mass properties must be finite")
-        inertia = 0.5 * (inertia + inertia.T)  # a new array: nothing else refers to it
+        inertia = symmetric_part(inertia)  # a new array: nothing else refers to it
         com.setflags(write=False)
         inertia.setflags(write=False)
         body = object.__new__(cls)
@@ -227,8 +237,7 @@ class MassProperties:
         # rotated(...).translated(...) without the body in between: the same operations
         # on the same values (the tensor is symmetrised after each step, as there)
         a = _rotation(t[:3, :3])
-        inertia = a @ self.inertia @ a.T
-        inertia = 0.5 * (inertia + inertia.T)
+        inertia = symmetric_part(a @ self.inertia @ a.T)
         return MassProperties._derived(self.mass, a @ self.com + t[:3, 3], inertia)
 
     def about(self, point: ArrayLike) -> np.ndarray:
@@ -299,7 +308,7 @@ class MassProperties:
         axes : (3, 3) float
             The principal axes as columns, right-handed, in F.
         """
-        moments, axes = np.linalg.eigh(self.inertia)
+        moments, axes = symmetric_eigh(self.inertia)
         if np.linalg.det(axes) < 0:
             axes[:, 2] *= -1
         return moments, axes

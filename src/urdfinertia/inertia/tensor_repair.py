@@ -1,8 +1,8 @@
 """The smallest correction that makes an inertia tensor valid for a simulator.
 
 Pure numpy. What "valid" means is [`urdfinertia.inertia.validity`][urdfinertia.inertia.validity]'s
-rule. The repair keeps the principal axes and never lowers a principal moment: a smallest moment
-that is not positive is raised to `MIN_MOMENT_RTOL` times the largest, then, if `A + B < C`, the
+rule. The repair keeps the principal axes and never lowers a principal moment: a smaller moment
+that is not above `MIN_MOMENT_RTOL` times the largest is raised to it, then, if `A + B < C`, the
 smallest moment is lifted to `C - B` (plus `REPAIR_MARGIN` of C so the written decimal text still
 passes after round-off). The two largest moments, which carry most of the dynamics, stay as the CAD
 system wrote them.
@@ -15,7 +15,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from urdfinertia.inertia.validity import TRIANGLE_RTOL, as_tensor, diagnose_tensor
+from urdfinertia.inertia.validity import (
+    TRIANGLE_RTOL,
+    as_tensor,
+    diagnose_tensor,
+    symmetric_part,
+)
 
 MIN_MOMENT_RTOL = 1e-6
 """Smallest principal moment written by a repair, as a fraction of the largest."""
@@ -86,9 +91,11 @@ def repair_tensor(inertia: ArrayLike) -> TensorRepair:
     c = m[2]
     floor = MIN_MOMENT_RTOL * c
     for i in (0, 1):
-        if m[i] <= 0:
-            changes.append(f"raised principal moment {m[i]:.6g} to {floor:.6g} "
-                           "(not positive definite)")
+        # a positive moment below the floor is one round-off can turn negative once the
+        # tensor is rebuilt (a moment of 1e-17 beside 1 was): raised the same way
+        if m[i] < floor:
+            why = "not positive definite" if m[i] <= 0 else "below round-off of the largest"
+            changes.append(f"raised principal moment {m[i]:.6g} to {floor:.6g} ({why})")
             m[i] = floor
     target = c * (1 + REPAIR_MARGIN)
     if m[0] + m[1] < target and (d.triangle_excess > TRIANGLE_RTOL or len(changes) > 0):
@@ -97,6 +104,5 @@ def repair_tensor(inertia: ArrayLike) -> TensorRepair:
                        f"(A + B >= C was broken by {max(d.triangle_excess, 0.0):.3g} of C)")
         m[0] = lifted
     axes = d.axes
-    out = axes @ np.diag(m) @ axes.T
-    out = 0.5 * (out + out.T)
+    out = symmetric_part(axes @ np.diag(m) @ axes.T)
     return TensorRepair(out, d.moments, m, tuple(changes))

@@ -17,6 +17,7 @@ mass, a flat plate, a cavity) that are not themselves simulated.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +35,52 @@ SEMIDEFINITE_RTOL = 1e-9
 """Slack of the semi-definiteness test at construction, as a fraction of the trace."""
 PLACEHOLDER_TINY = 1e-6
 """Placeholder magnitudes: a diagonal of all ones or of tiny equal values, no products."""
+
+
+#: Tensors whose largest entry lies outside this range are scaled by a power of two (exact)
+#: before their eigen-decomposition: ``t + t.T`` and LAPACK's iterations would overflow or
+#: underflow (a finite 1e308 entry gave "Eigenvalues did not converge").
+EIGEN_RANGE = (2.0 ** -500, 2.0 ** 500)
+
+
+def symmetric_part(t: np.ndarray) -> np.ndarray:
+    """``0.5 * (t + t.T)``; where that overflows (finite entries near float64's limit),
+    halved first. Halving first everywhere would lose the last bit of subnormals."""
+    with np.errstate(over="ignore"):  # an overflow is what the test below catches
+        sym: np.ndarray = 0.5 * (t + t.T)
+        if not math.isfinite(sym.sum()) and np.isfinite(t).all():
+            sym = 0.5 * t + 0.5 * t.T
+    return sym
+
+
+def symmetric_eigh(sym: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``np.linalg.eigh`` of a finite symmetric (3, 3) tensor at any magnitude.
+
+    Outside :data:`EIGEN_RANGE` the tensor is scaled by a power of two (exact) and the
+    moments scaled back; a moment beyond float64's range comes back infinite.
+    """
+    scale = float(np.abs(sym).max())
+    if scale == 0.0 or EIGEN_RANGE[0] <= scale <= EIGEN_RANGE[1]:
+        moments, axes = np.linalg.eigh(sym)
+        return moments, axes
+    k = math.frexp(scale)[1]
+    scaled, axes = np.linalg.eigh(np.ldexp(sym, -k))
+    with np.errstate(over="ignore"):
+        moments = np.ldexp(scaled, k)
+    return moments, axes
+
+
+def symmetric_eigvalsh(sym: np.ndarray) -> np.ndarray:
+    """``np.linalg.eigvalsh`` of a finite symmetric (3, 3) tensor at any magnitude (as
+    :func:`symmetric_eigh`)."""
+    scale = float(np.abs(sym).max())
+    if scale == 0.0 or EIGEN_RANGE[0] <= scale <= EIGEN_RANGE[1]:
+        moments: np.ndarray = np.linalg.eigvalsh(sym)
+        return moments
+    k = math.frexp(scale)[1]
+    with np.errstate(over="ignore"):
+        scaled: np.ndarray = np.ldexp(np.linalg.eigvalsh(np.ldexp(sym, -k)), k)
+    return scaled
 
 
 def as_tensor(inertia: ArrayLike) -> np.ndarray:
@@ -67,7 +114,9 @@ class TensorDiagnosis:
     Attributes
     ----------
     finite : bool
-        Every entry is finite. When False the other fields are NaN.
+        Every entry and every principal moment is finite (a finite tensor of entries
+        near float64's limit can have moments beyond it). When False the other fields
+        are NaN.
     asymmetry : float
         `max|I - I^T| / max|I|` (0 for a URDF tensor, which is symmetric by construction).
     moments : (3,) float
@@ -130,12 +179,22 @@ def diagnose_tensor(inertia: ArrayLike) -> TensorDiagnosis:
         When the shape is not (3, 3).
     """
     t = as_tensor(inertia)
+    nan3 = np.full(3, np.nan)
     if not np.all(np.isfinite(t)):
-        nan3 = np.full(3, np.nan)
         return TensorDiagnosis(False, np.nan, nan3, np.full((3, 3), np.nan), np.nan)
     scale = float(np.abs(t).max())
+    if not EIGEN_RANGE[0] <= scale <= EIGEN_RANGE[1] and scale > 0:
+        # the ratios below do not change under an exact rescaling; the moments do
+        k = math.frexp(scale)[1]
+        found = diagnose_tensor(np.ldexp(t, -k))
+        with np.errstate(over="ignore"):
+            moments = np.ldexp(found.moments, k)
+        if not np.all(np.isfinite(moments)):
+            return TensorDiagnosis(False, np.nan, nan3, np.full((3, 3), np.nan), np.nan)
+        return TensorDiagnosis(True, found.asymmetry, moments, found.axes,
+                               found.triangle_excess)
     asym = float(np.abs(t - t.T).max()) / scale if scale > 0 else 0.0
-    moments, axes = np.linalg.eigh(0.5 * (t + t.T))
+    moments, axes = np.linalg.eigh(symmetric_part(t))
     largest = float(moments[2])
     excess = (largest - moments[0] - moments[1]) / largest if largest > 0 else 0.0
     return TensorDiagnosis(True, asym, moments, axes, float(excess))

@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike
 from urdfinertia.errors import MeshError
 from urdfinertia.inertia.massprops import MassProperties
 from urdfinertia.inertia.polyhedron import mass_properties_from_integrals, solid_integrals
+from urdfinertia.inertia.validity import diagnose_tensor
 from urdfinertia.mesh.read.load import TriangleMesh
 from urdfinertia.mesh.repair.pipeline import RepairedMesh, repair_mesh
 from urdfinertia.rules import Rule
@@ -132,19 +133,21 @@ def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
     if len(candidates) < len(repaired.bodies):
         notes += (f"dropped {len(repaired.bodies) - len(candidates)} bodies with no net "
                   "volume",)
-    # A body whose integrals give no valid tensor is not a closed solid (a self-crossing
-    # sliver left by a union or a cap). Tiny ones are dropped with a note; a large one is
-    # an error, never a silent wrong answer.
+    # A body whose integrals give no valid tensor (not positive definite, or breaking the
+    # triangle inequality) is not a closed solid: a self-crossing sliver left by a union
+    # or a cap, or triangles of a soup capped into a surface that crosses itself (a
+    # random soup gave principal moments breaking A + B >= C by 24 %). Tiny ones are
+    # dropped with a note; a large one is an error, never a silent wrong answer.
     total = sum(s.volume for s in candidates)
     solids, slivers = [], 0.0
     for solid in candidates:
-        try:
-            solid.mass_properties(1.0)
-        except ValueError as exc:
+        why = _invalid_tensor(solid)
+        if why:
             if solid.volume > SLIVER_FRACTION * total:
                 raise MeshError(f"a repaired body ({solid.method}) holding "
                                 f"{solid.volume / total:.1%} of the volume has no valid "
-                                f"inertia tensor: {exc}") from None
+                                f"inertia tensor: {why}",
+                                of_bytes=True)
             slivers += solid.volume
             continue
         solids.append(solid)
@@ -152,6 +155,22 @@ def integrate_repaired(repaired: RepairedMesh) -> MeshSolids:
         notes += (f"dropped {len(candidates) - len(solids)} sliver bodies without a valid "
                   f"tensor ({slivers / total:.2%} of the volume)",)
     return MeshSolids(tuple(solids), notes)
+
+
+def _invalid_tensor(solid: Solid) -> str:
+    """Why a solid's own tensor (unit density, about its centroid) is not a rigid body's;
+    "" when it is one (:func:`~urdfinertia.inertia.validity.diagnose_tensor`)."""
+    try:
+        props = solid.mass_properties(1.0)
+    except ValueError as exc:
+        return str(exc)
+    d = diagnose_tensor(props.inertia)
+    if not d.positive_definite:
+        return f"principal moments {d.moments.tolist()} are not all positive"
+    if not d.triangle_ok:
+        return (f"principal moments {d.moments.tolist()} break A + B >= C by "
+                f"{d.triangle_excess:.3g} of C (the surface crosses itself)")
+    return ""
 
 
 def mesh_solids(mesh: TriangleMesh) -> MeshSolids:

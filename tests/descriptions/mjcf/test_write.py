@@ -126,6 +126,24 @@ def test_included_files_pass_the_same_security_checks(tmp_path):
         read_description(tmp_path / "url.xml")
 
 
+def test_an_include_that_is_a_link_loop_or_a_fifo_is_refused_with_its_line(tmp_path):
+    """Found by fuzzing: ``Path.resolve`` raised RuntimeError on a symbolic-link loop and
+    ``Path.is_file`` OSError on a name too long (exit 3); a FIFO would have blocked."""
+    import os
+
+    os.symlink(tmp_path / "b.xml", tmp_path / "a.xml")
+    os.symlink(tmp_path / "a.xml", tmp_path / "b.xml")
+    os.mkfifo(tmp_path / "pipe.xml")
+    for target, cause in (("a.xml", "included file not found"),
+                          ("pipe.xml", "is not a regular file"),
+                          ("x" * 5000 + ".xml", "included file not found")):  # ENAMETOOLONG
+        main = tmp_path / f"main_{len(target)}_{target[:5]}.xml"
+        main.write_text(f'<mujoco>\n<include file="{target}"/></mujoco>')
+        with pytest.raises(UrdfError, match=cause) as found:
+            read_description(main)
+        assert found.value.line == 2
+
+
 def test_lenient_reading_keeps_non_finite_inertials_for_check(tmp_path):
     path = tmp_path / "nan.xml"
     path.write_text('<mujoco><worldbody><body name="b"><joint/><geom size=".1"/>'

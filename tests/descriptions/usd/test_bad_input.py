@@ -70,3 +70,55 @@ def test_not_a_usd_suffix_is_refused(tmp_path):
     other.write_text("v 0 0 0\n")
     with pytest.raises(UrdfError, match="not a USD file"):
         open_stage(other)
+
+
+ROOT_WITH_SUBLAYER = '#usda 1.0\n(\n    subLayers = [@{}@]\n)\n\ndef Xform "robot" {{}}\n'
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device", "folder"])
+def test_a_sublayer_that_is_not_a_regular_file_is_refused_before_usd_reads_it(tmp_path,
+                                                                             kind):
+    """USD blocks for ever opening a FIFO and reads a device to its end: every layer the
+    stage composes is checked first (found by fuzzing: a reference to a FIFO hung)."""
+    import os
+
+    target = {"fifo": tmp_path / "pipe.usda", "device": "/dev/zero",
+              "folder": tmp_path / "folder.usda"}[kind]
+    if kind == "fifo":
+        os.mkfifo(target)
+    elif kind == "folder":
+        target.mkdir()
+    root = tmp_path / "robot.usda"
+    root.write_text(ROOT_WITH_SUBLAYER.format(target))
+    for argv in (["check", root], ["fix", root, "-o", tmp_path / "out.usda"]):
+        done = subprocess.run([sys.executable, "-m", "urdfinertia", *map(str, argv)],
+                              capture_output=True, text=True, timeout=60)
+        assert done.returncode == 2, done.stderr
+        assert "is not a regular file" in done.stderr and str(target) in done.stderr
+        assert "internal error" not in done.stderr
+    assert not (tmp_path / "out.usda").exists()
+
+
+def test_a_sublayer_usd_cannot_parse_is_a_missing_layer_not_a_crash(tmp_path):
+    """An empty file named as a sublayer: USD raises while the missing layers are listed
+    (found by fuzzing: ``ErrorException ... is not a valid usda layer``, exit 3)."""
+    (tmp_path / "empty.usda").write_bytes(b"")
+    root = tmp_path / "robot.usda"
+    root.write_text(ROOT_WITH_SUBLAYER.format("./empty.usda"))
+    checked = run("check", root)
+    assert checked.returncode == 1, checked.stderr
+    assert "missing-layer" in checked.stdout and "internal error" not in checked.stderr
+    fixed = run("fix", root, "-o", tmp_path / "out.usda")
+    assert fixed.returncode == 2 and "empty.usda" in fixed.stderr, fixed.stderr
+    assert "internal error" not in fixed.stderr
+
+
+def test_an_error_quoting_bytes_that_are_not_utf8_is_one_line(tmp_path):
+    """pxr's message quotes the layer's bytes; converting it raised UnicodeDecodeError
+    (found by fuzzing: one flipped byte in a usda layer, exit 3)."""
+    bad = tmp_path / "robot.usda"
+    bad.write_bytes(b'#usda 1.0\n\ndef Xform "robot" {\n    double \x98x = 1\n}\n')
+    done = run("check", bad)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.startswith(f"urdf-inertia: error: {bad}: ")
+    assert "internal error" not in done.stderr

@@ -12,6 +12,7 @@ names, else the `childclass` of the nearest enclosing body or frame, else `main`
 
 from __future__ import annotations
 
+import stat
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -123,13 +124,18 @@ class MjcfDocument:
         if len(self._stack) > MAX_INCLUDE_DEPTH:
             raise UrdfError(f"includes nested deeper than {MAX_INCLUDE_DEPTH}",
                             file=src.path, line=el.sourceline)
-        real = path.resolve()
+        try:  # a symbolic-link loop fails here (resolve raises RuntimeError for it)
+            info = path.stat()
+            real = path.resolve()
+        except (OSError, RuntimeError, ValueError):
+            raise UrdfError(f"included file not found: {name} (looked at {path})",
+                            file=src.path, line=el.sourceline) from None
         if real in self._stack:
             raise UrdfError(f"<include file=\"{name}\"> includes itself", file=src.path,
                             line=el.sourceline)
-        if not path.is_file():
-            raise UrdfError(f"included file not found: {name} (looked at {path})",
-                            file=src.path, line=el.sourceline)
+        if not stat.S_ISREG(info.st_mode):  # a FIFO would block the read, a device not end
+            raise UrdfError(f"<include file=\"{name}\"> is not a regular file (looked at "
+                            f"{path})", file=src.path, line=el.sourceline)
         inc = Source(path, parse_document(read_bytes(path), path, INCLUDE_ROOTS), False)
         self.sources.append(inc)
         self._includes[el] = inc

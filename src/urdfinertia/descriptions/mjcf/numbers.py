@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from urdfinertia.descriptions.urdf.read import _NUMBER, MAX_MAGNITUDE
+from urdfinertia.descriptions.urdf.read import _NUMBER, in_range
 from urdfinertia.rules import Rule
 
 
@@ -37,6 +37,6 @@ def numbers(text: str, n: int, attr: str, *, finite: bool = True, at_least: int 
             values.append(float(p))
         else:
             raise GeomError(f'{attr}="{shown}" is not a number')
-    if finite and any(not math.isfinite(v) or abs(v) > MAX_MAGNITUDE for v in values):
+    if finite and any(not math.isfinite(v) or not in_range(v) for v in values):
         raise GeomError(f'{attr}="{shown}" is out of range')
     return tuple(values)

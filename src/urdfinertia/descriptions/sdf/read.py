@@ -45,7 +45,7 @@ from urdfinertia.descriptions.model import (
 )
 from urdfinertia.descriptions.sdf.joints import joint_motion
 from urdfinertia.descriptions.sdf.poses import MODEL_FRAME, Scope, matrix_rpy, parse_pose
-from urdfinertia.descriptions.urdf.read import _NUMBER, MAX_MAGNITUDE
+from urdfinertia.descriptions.urdf.read import _NUMBER, in_range
 from urdfinertia.descriptions.xml import parse_document
 from urdfinertia.errors import UrdfError
 from urdfinertia.findings import Finding
@@ -133,7 +133,7 @@ class _Ctx:
             else:
                 raise _Dropped(f"<{el.tag}>{shown}</{el.tag}> is not a number (line "
                                f"{el.sourceline})")
-            if math.isfinite(v) and abs(v) > MAX_MAGNITUDE:
+            if math.isfinite(v) and not in_range(v):
                 raise _Dropped(f"<{el.tag}>{shown}</{el.tag}> is out of range (line "
                                f"{el.sourceline})")
             values.append(v)

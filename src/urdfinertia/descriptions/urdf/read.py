@@ -50,6 +50,22 @@ MAX_MAGNITUDE = 1e9
 """Largest magnitude of any number read (SI units: 1e9 m, kg or kg m^2 describe no robot); keeps
 every product the maths forms far from float64 overflow (1e308).
 """
+MIN_MAGNITUDE = 2.2250738585072014e-308
+"""Smallest non-zero magnitude read: float64's smallest normal number. A subnormal value
+(`1e-320`) is what an underflow leaves, never a stated quantity; computing with it
+underflows to zero (a kept mass of 1e-320 kg gave a tensor of principal moments
+`0, 3.5e-323, 3.5e-323`, not positive definite).
+"""
+
+
+def in_range(value: float) -> bool:
+    """Finite, at most `MAX_MAGNITUDE` and not subnormal (zero is in range)."""
+    magnitude = abs(value)
+    return magnitude == 0.0 or MIN_MAGNITUDE <= magnitude <= MAX_MAGNITUDE
+
+
+#: A decimal number as XML Schema writes a double, without NaN/INF (checked separately)
+#: and without what Python's ``float`` also takes (``1_0``, non-ASCII digits, spaces).
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 """A decimal number as XML Schema writes a double, without NaN/INF (checked separately) and without
 what Python's `float` also takes (`1_0`, non-ASCII digits, spaces).
@@ -198,6 +214,9 @@ class _Ctx:
         if values and max(map(abs, values)) > MAX_MAGNITUDE:  # all finite here
             raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (magnitude "
                              f"above {MAX_MAGNITUDE:g})", el)
+        if not all(map(in_range, values)):
+            raise self.error(f"<{el.tag} {attr}=\"{shown}\"> is out of range (subnormal: "
+                             f"non-zero below {MIN_MAGNITUDE:.3g})", el)
         if commas:
             self.problems.append(Finding(
                 Rule.VECTOR_COMMAS, self.link, f"<{el.tag} {attr}=\"{shown}\"> separates "

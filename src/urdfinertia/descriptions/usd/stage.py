@@ -9,7 +9,9 @@ Missing sublayers, references and payloads are named as problems of the document
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
@@ -67,6 +69,7 @@ def open_stage(path: Path) -> Opened:
         raise UrdfError("no such file", file=path)
     del px
     with _Diagnostics(Tf) as diag:
+        _check_layer_file(str(path), path, None)
         try:
             root = Sdf.Layer.FindOrOpen(str(path))
         except Tf.ErrorException as exc:
@@ -74,6 +77,9 @@ def open_stage(path: Path) -> Opened:
                             file=path) from None
         if root is None:
             raise UrdfError(f"USD cannot read this layer{diag.cause()}", file=path)
+        # every layer the stage will compose is checked before USD opens it, and kept
+        # open (the registry hands these very layers to the composition)
+        layers = _checked_layers(root, path)
         try:
             stage = Usd.Stage.Open(root, Usd.Stage.LoadAll)
         except Tf.ErrorException as exc:
@@ -82,6 +88,7 @@ def open_stage(path: Path) -> Opened:
         if stage is None:
             raise UrdfError(f"USD cannot compose the stage{diag.cause()}", file=path)
         missing = _missing_layers(stage, path)
+        del layers
     mpu = float(UsdGeom.GetStageMetersPerUnit(stage))
     kpu = float(UsdPhysics.GetStageKilogramsPerUnit(stage))
     if not (mpu > 0 and kpu > 0):
@@ -93,20 +100,85 @@ def open_stage(path: Path) -> Opened:
 def _missing_layers(stage: Any, path: Path) -> tuple[str, ...]:
     """Asset paths named by the composition (sublayers, references, payloads) that do not
     resolve to a layer, each as `asset (named in layer)`."""
-    from pxr import Sdf
+    from pxr import Sdf, Tf
 
     out: list[str] = []
     seen: set[str] = set()
     for layer in stage.GetUsedLayers():
-        for ref in layer.GetExternalReferences() if hasattr(layer, "GetExternalReferences") \
-                else layer.externalReferences:
-            if not ref or ref in seen:
+        for ref in _external(layer):
+            if ref in seen:
                 continue
             seen.add(ref)
             resolved = layer.ComputeAbsolutePath(ref)
-            if Sdf.Layer.FindOrOpen(resolved) is None:
+            try:
+                found = Sdf.Layer.FindOrOpen(resolved)
+            except Tf.ErrorException as exc:  # there, but not a layer USD can read
+                out.append(f"{ref} (named in {_short(layer.realPath, path)}: "
+                           f"{_first_line(exc)})")
+                continue
+            if found is None:
                 out.append(f"{ref} (named in {_short(layer.realPath, path)})")
     return tuple(out)
+
+
+def _external(layer: Any) -> list[str]:
+    """The asset paths a layer's sublayers, references and payloads name."""
+    refs = layer.GetExternalReferences() if hasattr(layer, "GetExternalReferences") \
+        else layer.externalReferences
+    return [ref for ref in refs if ref]
+
+
+def _checked_layers(root: Any, path: Path) -> list[Any]:
+    """Every layer reachable from ``root`` through sublayers, references and payloads,
+    opened after :func:`_check_layer_file` (USD itself would block on a FIFO or read a
+    device or a huge file to its end). A layer that does not exist or that USD cannot
+    parse is left to the composition, which reports it (:func:`_missing_layers`)."""
+    from pxr import Sdf, Tf
+
+    opened = [root]
+    seen = {str(root.realPath)}
+    todo = [root]
+    while todo:
+        layer = todo.pop()
+        for ref in _external(layer):
+            resolved = layer.ComputeAbsolutePath(ref)
+            if not resolved or resolved in seen:
+                continue
+            seen.add(resolved)
+            if not _check_layer_file(resolved, path, (ref, layer)):
+                continue
+            try:
+                found = Sdf.Layer.FindOrOpen(resolved)
+            except Tf.ErrorException:
+                continue
+            if found is not None:
+                opened.append(found)
+                todo.append(found)
+    return opened
+
+
+def _check_layer_file(resolved: str, path: Path, named: tuple[str, Any] | None) -> bool:
+    """Whether the layer file exists (False: the composition reports it missing);
+    :class:`UrdfError` when it is not a regular file or larger than a description may be.
+
+    Only the file part of a package path (``asset.usdz[inner.usda]``) is looked at.
+    """
+    from urdfinertia.descriptions.xml import MAX_DOCUMENT_BYTES
+
+    file = resolved.split("[", 1)[0]
+    where = "" if named is None else \
+        f"layer @{named[0]}@ named in {_short(named[1].realPath, path)} "
+    try:
+        info = os.stat(file)
+    except (OSError, ValueError):
+        return False
+    if not stat.S_ISREG(info.st_mode):
+        raise UrdfError(f"{where or 'layer '}is not a regular file ({file}): a FIFO, "
+                        "device or folder is not read", file=path)
+    if info.st_size > MAX_DOCUMENT_BYTES:
+        raise UrdfError(f"{where or 'layer '}is {info.st_size} bytes, more than the limit "
+                        f"{MAX_DOCUMENT_BYTES} bytes of a description ({file})", file=path)
+    return True
 
 
 def _short(real: str, path: Path) -> str:
@@ -121,7 +193,7 @@ _TF_MESSAGE = re.compile(r" : '(.*)'\s*$", re.S)
 
 def _first_line(exc: BaseException) -> str:
     """The message of an OpenUSD error without its C++ location, on one line."""
-    raw = str(exc)
+    raw = _text(exc)
     found = _TF_MESSAGE.search(raw)
     text = " ".join((found.group(1) if found else raw).split())
     return text[:300]
@@ -151,12 +223,21 @@ class _Diagnostics:
     def __exit__(self, *exc: object) -> None:
         if self._mark is not None:
             for err in self._mark.GetErrors():
-                self.messages.append(" ".join(str(err.commentary).split()))
+                self.messages.append(" ".join(_text(err, "commentary").split()))
             self._mark.Clear()
         self._delegate = None
 
     def cause(self) -> str:
         if self._mark is not None:
             for err in self._mark.GetErrors():
-                self.messages.append(" ".join(str(err.commentary).split()))
+                self.messages.append(" ".join(_text(err, "commentary").split()))
         return f": {self.messages[0][:300]}" if self.messages else ""
+
+
+def _text(thing: Any, attribute: str | None = None) -> str:
+    """``str`` of an OpenUSD error (or of one of its attributes): its message quotes the
+    layer's bytes, which need not be UTF-8 (pxr then raises while converting it)."""
+    try:
+        return str(getattr(thing, attribute) if attribute else thing)
+    except UnicodeError:
+        return "(the message quotes bytes that are not UTF-8: the layer is corrupt)"

@@ -33,6 +33,7 @@ from urdfinertia.mesh.read.dae import read_dae
 from urdfinertia.mesh.read.msh import msh_face_count, read_msh
 from urdfinertia.mesh.read.obj import read_obj
 from urdfinertia.mesh.read.stl import read_stl
+from urdfinertia.quiet import library_output
 from urdfinertia.rules import Rule
 
 SUPPORTED_SUFFIXES = (".stl", ".obj", ".dae", ".ply", ".glb", ".gltf", ".off", ".msh")
@@ -75,23 +76,30 @@ def load_mesh(path: str | Path, max_faces: int = DEFAULT_MAX_FACES) -> TriangleM
                         f"supported: {', '.join(SUPPORTED_SUFFIXES)}",
                         rule=Rule.GEOMETRY_UNREADABLE)
     data = _checked_bytes(path, suffix, max_faces)
-    pieces = _native_pieces(path, suffix, data, max_faces) if data is not None else None
-    loaded = _load_scene(path, suffix) if pieces is None else None
-    try:
-        if pieces is None:
-            pieces = _scene_pieces(loaded)
-        vertices, faces = _concatenate(pieces, path, max_faces)
-    except MeshError:
-        raise
-    except Exception as exc:  # a scene graph trimesh built from corrupt data
-        raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from None
+    # trimesh logs (with tracebacks) what it cannot load of a file, pycollada warns: kept
+    # off the terminal, as debug lines (urdfinertia.quiet)
+    with library_output(str(path)):
+        pieces = _native_pieces(path, suffix, data, max_faces) if data is not None else None
+        loaded = _load_scene(path, suffix) if pieces is None else None
+        try:
+            if pieces is None:
+                pieces = _scene_pieces(loaded)
+            vertices, faces = _concatenate(pieces, path, max_faces)
+        except MeshError:
+            raise
+        except Exception as exc:  # a scene graph trimesh built from corrupt data
+            raise MeshError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}"
+                            ) from None
     if len(faces) == 0:
         raise MeshError(f"mesh {path} holds no triangles", of_bytes=True)
     if suffix == ".dae" and data is not None:
-        unit = _collada_unit(data[:_UNIT_HEAD])
+        unit = _collada_unit(data[:_UNIT_HEAD], path)
     else:
         metadata = getattr(loaded, "metadata", None)
         unit = metadata.get("unit_meter") if metadata is not None else None
+        if unit is not None and not (np.isfinite(unit) and unit > 0):
+            raise MeshError(f"mesh {path} states a unit of {unit} m: not a positive length, "
+                            "and no unit is guessed", rule=Rule.GEOMETRY_UNREADABLE, of_bytes=True)
     if unit and not np.isclose(unit, 1.0):
         vertices = vertices * unit
     if not np.all(np.isfinite(vertices)):
@@ -136,6 +144,9 @@ def _checked_bytes(path: Path, suffix: str, max_faces: int) -> bytes | None:
                     rule = (Rule.GEOMETRY_UNREADABLE if cause == ZIPPED_COLLADA
                             else Rule.MESH_REFUSED)
                     raise MeshError(f"cannot read mesh {path}: {cause}", rule=rule)
+                if data is not None and collada_non_finite(data):
+                    raise MeshError(f"mesh {path} has non-finite vertex coordinates (nan or "
+                                    "inf in a <source> of positions)", of_bytes=True)
     except OSError as exc:
         raise MeshError(f"cannot read mesh {path}: {exc.strerror or exc}") from None
     return data
@@ -369,13 +380,44 @@ def _concatenate(pieces: list[Piece], path: Path, max_faces: int
     return np.concatenate(verts), np.concatenate(faces)
 
 
-def _collada_unit(head: bytes) -> float | None:
-    """`<unit meter>` found in the first `_UNIT_HEAD` bytes of a COLLADA file."""
-    match = re.search(rb"<unit\b[^>]*\bmeter\s*=\s*[\"']([0-9.eE+-]+)[\"']", head)
+def _collada_unit(head: bytes, path: Path) -> float | None:
+    """`<unit meter>` found in the first `_UNIT_HEAD` bytes of a COLLADA file (None
+    without one: metres).
+
+    Raises
+    ------
+    MeshError
+        The value is not a positive finite length (`0`, `-1`, `nan`, empty): no unit is
+        guessed, since every length and the mass would follow the guess.
+    """
+    match = re.search(rb"<unit\b[^>]*?\bmeter\s*=\s*([\"'])(.*?)\1", head, re.S)
     if not match:
         return None
+    text = match.group(2).decode("utf-8", errors="replace").strip()
     try:
-        value = float(match.group(1))
+        value = float(text)
     except ValueError:
-        return None
-    return value if np.isfinite(value) and value > 0 else None
+        value = float("nan")
+    if not (np.isfinite(value) and value > 0):
+        raise MeshError(f"mesh {path} has <unit meter=\"{text[:40]}\">: not a positive length, "
+                        "and no unit is guessed", rule=Rule.GEOMETRY_UNREADABLE, of_bytes=True)
+    return value
+
+
+#: A ``nan`` or ``inf`` among the numbers of a COLLADA float array (pycollada reads NaN
+#: as 0 without a word: one NaN coordinate moved a vertex to the origin, mass -18 %).
+_NON_FINITE = re.compile(rb"(?i)(?<![\w.+-])[+-]?(?:nan|inf(?:inity)?)(?![\w.])")
+_SOURCE = re.compile(rb"<source\b[^>]*?\bid\s*=\s*[\"']([^\"']*)[\"'][^>]*>(.*?)</source\s*>",
+                     re.S)
+_POSITION = re.compile(rb"<input\b(?=[^>]*\bsemantic\s*=\s*[\"']POSITION[\"'])[^>]*?"
+                       rb"\bsource\s*=\s*[\"']#([^\"']*)[\"']")
+
+
+def collada_non_finite(data: bytes) -> bool:
+    """Whether a source of vertex positions of a COLLADA document holds ``nan`` or
+    ``inf`` (in normals or texture coordinates they do not matter here)."""
+    if not _NON_FINITE.search(data):
+        return False
+    positions = {m.group(1) for m in _POSITION.finditer(data)}
+    return any(m.group(1) in positions and _NON_FINITE.search(m.group(2))
+               for m in _SOURCE.finditer(data))

@@ -129,6 +129,8 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     MeshError
         Non-finite or out-of-range input, or nothing that encloses a volume.
     """
+    # the budget covers every stage: weld, stitch, caps and unions
+    deadline = Deadline(mesh_seconds() if seconds is not None and seconds < 0 else seconds)
     vertices, faces = _checked(mesh)
     notes: list[str] = []
     used = vertices[used_vertices(len(vertices), faces)]
@@ -153,13 +155,18 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
         raise MeshError("mesh has no non-degenerate triangles: it encloses no volume",
                         rule=Rule.MESH_NO_VOLUME)
     timer = timer if timer is not None else StageTimes()
-    deadline = Deadline(mesh_seconds() if seconds is not None and seconds < 0 else seconds)
     welded = "welded" if notes else "closed as given"
     # one edge table for the stitch and, when nothing was stitched, the repair
     table: EdgeTable | None = edge_table(faces)
-    stitch = stitch_seams(vertices, faces, size, table)
+    try:
+        stitch = stitch_seams(vertices, faces, size, table, deadline)
+    except OverBudget:  # the repair goes on without the stitch, and says so
+        stitch = None
+        notes.append(f"{OVER_BUDGET_NOTE} ({deadline.seconds:g} s): seams not stitched "
+                     "(--mesh-seconds raises it)")
     if stitch is None:
-        return _finish(_close_up(vertices, faces, notes, deadline, welded, table=table), timer)
+        return _finish(_close_up(vertices, faces, notes, deadline, welded, table=table),
+                       timer, deadline)
     table = None  # not kept through the stitched repair (memory): built again if needed
     stitched_faces = drop_degenerate(stitch.vertices, stitch.faces, (1e-12 * size) ** 2)
     stitched_faces, _, _ = cancel_duplicate_faces(stitched_faces)
@@ -167,7 +174,7 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     stitched_table = stitch.table if len(stitched_faces) == len(stitch.faces) else None
 
     def plain() -> RepairedMesh:
-        return _finish(_close_up(vertices, faces, notes, deadline, welded), timer)
+        return _finish(_close_up(vertices, faces, notes, deadline, welded), timer, deadline)
 
     try:
         stitched = _close_up(stitch.vertices, stitched_faces, notes + [stitch.note()],
@@ -181,7 +188,9 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
     del stitch, stitched_faces, stitched_table
     if not ambiguous:
         try:
-            return _finish(stitched, timer)
+            return _finish(stitched, timer, deadline)
+        except OverBudgetError:
+            raise
         except MeshError:
             return plain()
     # some rims stayed open or an edge now has three faces: the stitch may have joined
@@ -192,7 +201,9 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
         unstitched = _close_up(vertices, faces, notes, deadline, welded)
     except MeshError:
         try:
-            return _finish(stitched, timer)
+            return _finish(stitched, timer, deadline)
+        except OverBudgetError:
+            raise
         except MeshError:
             return plain()  # raises as the unstitched repair did
     p_lo, p_hi = unstitched.stated_error_bounds()
@@ -204,17 +215,23 @@ def repair_mesh(mesh: TriangleMesh, timer: StageTimes | None = None,
                                         (stitched, s_hi, p_lo, unstitched)):
         if hi < other_lo:
             try:
-                kept = _finish(first, timer)
+                kept = _finish(first, timer, deadline)
+            except OverBudgetError:
+                raise
             except MeshError:
-                return _finish(second, timer)
+                return _finish(second, timer, deadline)
             if _stated_error(kept) <= hi:
                 return kept
     try:
-        stitched_mesh = _finish(stitched, timer)
+        stitched_mesh = _finish(stitched, timer, deadline)
+    except OverBudgetError:
+        raise
     except MeshError:
-        return _finish(unstitched, timer)
+        return _finish(unstitched, timer, deadline)
     try:
-        plain_mesh = _finish(unstitched, timer)
+        plain_mesh = _finish(unstitched, timer, deadline)
+    except OverBudgetError:
+        raise
     except MeshError:
         return stitched_mesh
     return plain_mesh if _stated_error(plain_mesh) < _stated_error(stitched_mesh) \
@@ -337,10 +354,11 @@ def _close_up(vertices: np.ndarray, faces: np.ndarray, notes: list[str],
     return _Closed(bodies, notes, origin, stitch_uncertainty)
 
 
-def _finish(closed: _Closed, timer: StageTimes) -> RepairedMesh:
+def _finish(closed: _Closed, timer: StageTimes, deadline: Deadline | None = None,
+            ) -> RepairedMesh:
     """Unite the overlapping bodies of `closed` (stage 5) and state their provenance."""
     notes = list(closed.notes)
-    bodies, union_note = _unite(closed.bodies, timer)
+    bodies, union_note = _unite(closed.bodies, timer, deadline)
     if union_note:
         notes.append(union_note)
     bodies = drop_empty(bodies, notes)
@@ -566,20 +584,39 @@ def _body(shells: list[_Shell], outer: int, cavities: list[int]) -> RepairedBody
     return RepairedBody(vertices, faces, method, error, tuple(notes), provenance, dependence)
 
 
-def _unite(bodies: list[RepairedBody], timer: StageTimes,
+class OverBudgetError(MeshError):
+    """The repair ran out of its time budget at a stage with no cheaper fallback (the
+    unions: skipping them would count shared volume twice). Not a property of the bytes
+    alone: another run may have the time, so it is not cached."""
+
+    def __init__(self, deadline: Deadline, what: str) -> None:
+        super().__init__(f"{OVER_BUDGET_NOTE} ({deadline.seconds:g} s) before {what} "
+                         "(--mesh-seconds raises it)", rule=Rule.MESH_REFUSED)
+
+
+#: Bodies united by one boolean call: the time budget is checked between such calls. Above
+#: the most a mesh of example-robot-data unites (178 bodies: borinot's base), so that every
+#: real mesh seen is still united in one call, as before the budget covered the unions.
+UNION_CHUNK = 256
+
+
+def _unite(bodies: list[RepairedBody], timer: StageTimes, deadline: Deadline | None = None,
            ) -> tuple[list[RepairedBody], str]:
-    """Bodies, with those whose bounding boxes overlap replaced by their boolean union."""
+    """Bodies, with those whose bounding boxes overlap replaced by their boolean union.
+
+    Up to :data:`UNION_CHUNK` bodies are united in one call; more in calls of that many,
+    then their results, with ``deadline`` checked before each call
+    (:class:`OverBudgetError`).
+    """
     if len(bodies) < 2:
         return bodies, ""
     touch = _touching(bodies)
     involved = np.flatnonzero(touch.any(axis=1))
     if len(involved) == 0:
         return bodies, ""
-    from urdfinertia.mesh.repair.union import union_bodies
-
     chosen = [bodies[i] for i in involved]
     with timer.stage("union"):
-        united = union_bodies(chosen)
+        united = _union_in_chunks(chosen, deadline)
     if united is None:
         return bodies, (f"{len(involved)} bodies may overlap but are not manifold: "
                         "shared volume may be counted twice")
@@ -609,6 +646,39 @@ def _unite(bodies: list[RepairedBody], timer: StageTimes,
     note = (f"united {len(involved)} overlapping bodies into {len(new)}: removed "
             f"{100 * (before - after) / before:.3g}% double-counted volume")
     return rest + new, note
+
+
+def _union_in_chunks(bodies: list[RepairedBody], deadline: Deadline | None,
+                     ) -> tuple[np.ndarray, np.ndarray] | None:
+    """`union_bodies` of `bodies`: in one call up to `UNION_CHUNK` of them (never
+    interrupted, as one hole cap is not); more (a soup of overlapping shells: 3,000 boxes
+    took 5 s) in calls of that many, then their results, `deadline` checked before each
+    call."""
+    from urdfinertia.mesh.repair.union import union_bodies
+
+    if len(bodies) <= UNION_CHUNK:
+        return union_bodies(bodies)
+    parts: list[RepairedBody | _Piece] = list(bodies)
+    while len(parts) > 1:
+        merged: list[RepairedBody | _Piece] = []
+        for i in range(0, len(parts), UNION_CHUNK):
+            if deadline is not None and deadline.expired():
+                raise OverBudgetError(deadline, f"uniting {len(bodies)} overlapping bodies")
+            found = union_bodies(parts[i:i + UNION_CHUNK])
+            if found is None:
+                return None
+            # writable copies: manifold3d refuses its own read-only result arrays as input
+            merged.append(_Piece(np.array(found[0]), np.array(found[1])))
+        parts = merged
+    return parts[0].vertices, parts[0].faces
+
+
+@dataclass(frozen=True, eq=False)
+class _Piece:
+    """A partial union: what `union_bodies` takes (vertices and faces)."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
 
 
 _BODY_VOLUMES: weakref.WeakKeyDictionary[RepairedBody, float] = weakref.WeakKeyDictionary()

@@ -24,6 +24,7 @@ import numpy as np
 
 from urdfinertia.inertia.polyhedron import cross_rows
 from urdfinertia.mesh.repair.graph import EdgeTable, components, edge_table
+from urdfinertia.timing import Deadline
 
 STITCH_RTOL = 1e-3
 """Stitch tolerance as a fraction of the bounding-box diagonal (seams of 1e-6 to 1e-4)."""
@@ -56,6 +57,8 @@ class Stitch:
         the caller should compare with the unstitched repair.
     table : EdgeTable
         `edge_table(faces)`, for the caller to reuse.
+    skipped : str
+        Why the T-junction search was not made (too many candidates), "" when it was.
     """
 
     vertices: np.ndarray
@@ -68,6 +71,7 @@ class Stitch:
     uncertainty: float
     ambiguous: bool
     table: EdgeTable
+    skipped: str = ""
 
     def provenance(self) -> str:
         """One line for the solid's provenance.
@@ -93,9 +97,10 @@ class Stitch:
             what.append(f"merged {self.merged} boundary vertices")
         if self.inserted:
             what.append(f"split {self.inserted} T-junctions")
+        skipped = f"; T-junctions not searched ({self.skipped})" if self.skipped else ""
         return (f"stitched seams: {' and '.join(what)} across gaps up to {self.gap:.2g} m; "
                 f"{self.boundary_before - self.boundary_after} of {self.boundary_before} "
-                "open edges joined")
+                f"open edges joined{skipped}")
 
 
 def stitch_tolerance(vertices: np.ndarray, faces: np.ndarray, size: float) -> float:
@@ -106,11 +111,16 @@ def stitch_tolerance(vertices: np.ndarray, faces: np.ndarray, size: float) -> fl
 
 
 def stitch_seams(vertices: np.ndarray, faces: np.ndarray, size: float,
-                 table: EdgeTable | None = None) -> Stitch | None:
+                 table: EdgeTable | None = None, deadline: Deadline | None = None,
+                 ) -> Stitch | None:
     """Merge and insert boundary vertices within `stitch_tolerance`; None if none.
 
     `faces` need not be oriented: a boundary edge is an edge used by one face.
-    `table` is `edge_table(faces)` when the caller has it already.
+    `table` is `edge_table(faces)` when the caller has it already. `deadline` is
+    checked between the T-junction search's chunks (raises
+    [`OverBudget`][urdfinertia.timing.OverBudget]). A search that would examine more pairs than
+    any seam needs (`MAX_CANDIDATES_PER_EDGE`: a triangle soup) is not made, which
+    [`Stitch.skipped`][Stitch.skipped] says.
     """
     table = table if table is not None else edge_table(faces)
     edges = _boundary(faces, table)
@@ -123,9 +133,15 @@ def stitch_seams(vertices: np.ndarray, faces: np.ndarray, size: float,
     if stitched is not faces:  # merged: the table is of the old faces
         faces, table = stitched, edge_table(stitched)
     inserted, swept = 0, 0.0
+    skipped = ""
     for _ in range(SPLIT_PASSES):  # each pass splits at most one edge per face
         edges = _boundary(faces, table)
-        split, count, dist, vol = _split_t_junctions(vertices, faces, edges, tol)
+        try:
+            split, count, dist, vol = _split_t_junctions(vertices, faces, edges, tol,
+                                                         deadline)
+        except TooManyCandidates as exc:
+            skipped = str(exc)
+            break
         if count == 0:
             break
         faces, table = split, edge_table(split)
@@ -138,7 +154,7 @@ def stitch_seams(vertices: np.ndarray, faces: np.ndarray, size: float,
     after = int(np.count_nonzero(uses == 1))
     ambiguous = after > 0 or bool(np.any(uses > 2))
     return Stitch(vertices, faces, merged, inserted, gap, before, after, moved + swept,
-                  ambiguous, table)
+                  ambiguous, table, skipped)
 
 
 def _boundary(faces: np.ndarray, table: EdgeTable) -> np.ndarray:
@@ -212,14 +228,36 @@ def _star_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return np.bincount(faces.reshape(-1), weights=np.repeat(area, 3), minlength=len(vertices))
 
 
+#: Candidate (edge, vertex) pairs examined at once by the T-junction search: its arrays
+#: take about 100 bytes per pair, so a chunk stays near 100 MB whatever the mesh.
+CANDIDATE_CHUNK = 1 << 20
+#: More candidates than this per boundary edge on average (and more than
+#: ``CANDIDATE_CHUNK`` in all) is no seam: a triangle soup's long random edges each pass
+#: near most boundary vertices (3,000 such triangles took 26 s and 2.9 GB here). Seams of
+#: real meshes stay below 20 on average (example-robot-data: at most 18, one edge 2,841).
+MAX_CANDIDATES_PER_EDGE = 256
+
+
+class TooManyCandidates(Exception):
+    """The T-junction search would examine more pairs than any seam needs."""
+
+
 def _split_t_junctions(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray,
-                       tol: float) -> tuple[np.ndarray, int, float, float]:
+                       tol: float, deadline: Deadline | None = None,
+                       ) -> tuple[np.ndarray, int, float, float]:
     """Insert boundary vertices lying within `tol` of a boundary edge into that edge.
 
     The edge's face `(u, w, c)` becomes the fan `(u, p1, c), ..., (pk, w, c)` with
     the points sorted along the edge; at most one edge per face is split per call.
     Returns the faces, how many vertices were inserted, the largest distance bridged and
     the volume of the tetrahedra `(u, p, w, c)` added.
+
+    Raises
+    ------
+    TooManyCandidates
+        Past `MAX_CANDIDATES_PER_EDGE` (the caller leaves the seams alone).
+    OverBudget
+        `deadline` expired between chunks.
     """
     from scipy.spatial import cKDTree
 
@@ -228,21 +266,26 @@ def _split_t_junctions(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarra
     ids = np.unique(edges[:, :2])
     a, b = vertices[edges[:, 0]], vertices[edges[:, 1]]
     length = np.linalg.norm(b - a, axis=1)
-    near = cKDTree(vertices[ids]).query_ball_point(0.5 * (a + b), 0.5 * length + tol)
-    counts = np.fromiter((len(x) for x in near), dtype=np.int64, count=len(near))
-    if counts.sum() == 0:
+    tree = cKDTree(vertices[ids])
+    centre, radius = 0.5 * (a + b), 0.5 * length + tol
+    counts = np.asarray(tree.query_ball_point(centre, radius, return_length=True),
+                        dtype=np.int64)
+    total = int(counts.sum())
+    if total == 0:
         return faces, 0, 0.0, 0.0
-    e = np.repeat(np.arange(len(edges)), counts)
-    p = ids[np.concatenate([np.asarray(x, dtype=np.int64) for x in near if len(x)])]
-    d = b[e] - a[e]
-    t = np.einsum("ij,ij->i", vertices[p] - a[e], d) / np.maximum(length[e] ** 2, 1e-300)
-    foot = a[e] + t[:, None] * d
-    dist = np.linalg.norm(vertices[p] - foot, axis=1)
-    end = np.minimum(np.linalg.norm(vertices[p] - a[e], axis=1),
-                     np.linalg.norm(vertices[p] - b[e], axis=1))
-    ok = ((p != edges[e, 0]) & (p != edges[e, 1]) & (t > 0) & (t < 1) & (dist <= tol)
-          & (end > tol))
-    e, p, t, dist = e[ok], p[ok], t[ok], dist[ok]
+    if total > max(CANDIDATE_CHUNK, MAX_CANDIDATES_PER_EDGE * len(edges)):
+        raise TooManyCandidates(f"{total / len(edges):.0f} boundary vertices near each "
+                                "boundary edge on average")
+    found = []  # the pairs that pass, chunk by chunk of edges (bounded memory)
+    ends = np.searchsorted(np.cumsum(counts), np.arange(CANDIDATE_CHUNK, total,
+                                                         CANDIDATE_CHUNK), side="right")
+    for lo, hi in zip(np.r_[0, ends], np.r_[ends, len(edges)], strict=True):
+        if deadline is not None:
+            deadline.check()
+        if hi > lo:
+            found.append(_near_edges(vertices, edges, ids, tree, a, b, length, centre, radius,
+                                     tol, int(lo), int(hi)))
+    e, p, t, dist = (np.concatenate(x) for x in zip(*found, strict=True))
     if len(e) == 0:
         return faces, 0, 0.0, 0.0
     # one edge per face in this pass: the lowest-numbered edge of each face
@@ -282,3 +325,23 @@ def _split_t_junctions(vertices: np.ndarray, faces: np.ndarray, edges: np.ndarra
     keep[face] = False
     out = np.concatenate([faces[keep], fan, last])
     return out, len(p), float(dist.max()), float(np.abs(tet).sum() / 6.0)
+
+
+def _near_edges(vertices: np.ndarray, edges: np.ndarray, ids: np.ndarray, tree, a, b,
+                length, centre, radius, tol: float, lo: int, hi: int):  # noqa: ANN001
+    """(edge, vertex, t along the edge, distance) of the boundary vertices within ``tol``
+    of boundary edges ``lo..hi``, off both ends (what :func:`_split_t_junctions` splits)."""
+    near = tree.query_ball_point(centre[lo:hi], radius[lo:hi])
+    counts = np.fromiter((len(x) for x in near), dtype=np.int64, count=len(near))
+    e = lo + np.repeat(np.arange(hi - lo), counts)
+    p = ids[np.concatenate([np.asarray(x, dtype=np.int64) for x in near if len(x)]
+                           or [np.zeros(0, dtype=np.int64)])]
+    d = b[e] - a[e]
+    t = np.einsum("ij,ij->i", vertices[p] - a[e], d) / np.maximum(length[e] ** 2, 1e-300)
+    foot = a[e] + t[:, None] * d
+    dist = np.linalg.norm(vertices[p] - foot, axis=1)
+    end = np.minimum(np.linalg.norm(vertices[p] - a[e], axis=1),
+                     np.linalg.norm(vertices[p] - b[e], axis=1))
+    ok = ((p != edges[e, 0]) & (p != edges[e, 1]) & (t > 0) & (t < 1) & (dist <= tol)
+          & (end > tol))
+    return e[ok], p[ok], t[ok], dist[ok]
