@@ -132,16 +132,16 @@ class OutputError(UrdfInertiaError):
 class MissingExtraError(UrdfInertiaError, ImportError):
     """A feature needs an optional dependency that is not installed.
 
-    Also an :class:`ImportError`, so ``except ImportError`` catches it. The message is one
+    Also an `ImportError`, so `except ImportError` catches it. The message is one
     line with the install command: "the report needs the report extra: pip install
     'urdfinertia[report]'".
 
     Attributes
     ----------
     extra : str
-        The extra that installs it (``pip install 'urdfinertia[EXTRA]'``).
+        The extra that installs it (`pip install 'urdfinertia[EXTRA]'`).
     name : str
-        The module that could not be imported (as :class:`ImportError` names it).
+        The module that could not be imported (as `ImportError` names it).
     """
 
     default_rule = Rule.MISSING_EXTRA
@@ -163,10 +163,11 @@ EXTRA_OF = {"plotly": "report", "matplotlib": "report", "fast_simplification": "
 
 
 def require_extra(modules: tuple[str, ...], what: str) -> None:
-    """Raise :class:`MissingExtraError` unless every module in ``modules`` is importable.
+    """Raise [`MissingExtraError`][urdfinertia.errors.MissingExtraError] unless every module in
+    `modules` is importable.
 
-    Only looks the modules up (``importlib.util.find_spec``), so a present extra costs no
-    import here; ``what`` names the feature ("the report", "compare --plot").
+    Only looks the modules up (`importlib.util.find_spec`), so a present extra costs no
+    import here; `what` names the feature ("the report", "compare --plot").
     """
     import importlib.util
 

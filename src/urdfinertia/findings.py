@@ -1,9 +1,10 @@
-"""A finding: one rule of the registry (:mod:`urdfinertia.rules`) applied to one place.
+"""A finding: one rule of the registry ([`urdfinertia.rules`][urdfinertia.rules]) applied to
+one place.
 
-The one channel of everything the tool has to say about a description: what the reader
-read past, what the judgement found, what ``fix`` did and why. Every note a user sees is a
-:class:`Finding` with its rule, so it has a stable id (SARIF ``ruleId``, baselines), a
-severity and a page in the documentation.
+The one channel of everything the tool has to say about a description: what the reader read past,
+what the judgement found, what `fix` did and why. Every note a user sees is a
+[`Finding`][urdfinertia.findings.Finding] with its rule, so it has a stable id (SARIF `ruleId`,
+baselines), a severity and a page in the documentation.
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ class Finding:
         return self.rule.severity
 
     def describe(self, file: str | Path | None = None) -> str:
-        """One line: ``file:line: link 'name' element: message`` (the errors' layout)."""
+        """One line: `file:line: link 'name' element: message` (the errors' layout)."""
         where = str(file) if file is not None else "<input>"
         if self.line is not None:
             where += f":{self.line}"

@@ -1,15 +1,16 @@
-"""The ``check`` job: lint the inertials as written, per link, with a severity.
+"""The `check` job: lint the inertials as written, per link, with a severity.
 
-``check`` is ``fix``'s plan without writing: with geometry (the default) its findings are
-those of the links' verdicts (:func:`urdfinertia.plan.fix.link_verdicts`), the very
-objects ``fix`` carries out, so what ``check`` says ``fix`` would recompute is what ``fix``
+`check` is `fix`'s plan without writing: with geometry (the default) its findings are
+those of the links' verdicts (`urdfinertia.plan.fix.link_verdicts`), the very
+objects `fix` carries out, so what `check` says `fix` would recompute is what `fix`
 recomputes. The link's geometry is read for the checks that need it: CoM inside the
 geometry's bounding box, implied density, and the tensor's size against what the geometry
-allows for the written mass. ``geometry=False`` checks the written values alone.
+allows for the written mass. `geometry=False` checks the written values alone.
 
-A link whose geometry could not be read (a mesh that does not resolve or read) was not
-verified: :attr:`CheckResult.unverified` lists them, and :meth:`CheckResult.exit_code`
-counts them as a failure, since the check could not do what it was asked.
+A link whose geometry could not be read (a mesh that does not resolve or read) was not verified:
+[`CheckResult.unverified`][urdfinertia.analysis.check.CheckResult.unverified] lists them, and
+[`CheckResult.exit_code`][urdfinertia.analysis.check.CheckResult.exit_code] counts them as a
+failure, since the check could not do what it was asked.
 
 Severities: "error" (a simulator refuses or misbehaves), "warning" (very likely wrong),
 "info" (worth knowing, e.g. masses lumped by fixed joints).
@@ -52,27 +53,34 @@ from urdfinertia.rules import Rule, Severity
 
 @dataclass(frozen=True, eq=False)
 class CheckResult:
-    """What ``check`` found in one description, and what ``fix`` would do about it.
+    """What `check` found in one description, and what `fix` would do about it.
 
-    links : every link's verdict (empty with ``geometry=False``: nothing was planned).
-    findings : the robot's findings in link order, lumping notes last.
+    Attributes
+    ----------
+    path : Path
+    robot : Robot
+    links : tuple of LinkResult
+        Every link's verdict (empty with `geometry=False`: nothing was planned).
+    findings : tuple of Finding
+        The robot's findings in link order, lumping notes last.
+    statics : Statics or None
+        Total mass, whole CoM and per joint the gravity load (None: statics not asked for).
     """
 
     path: Path
     robot: Robot
     links: tuple[LinkResult, ...]
     findings: tuple[Finding, ...]
-    #: total mass, whole CoM and per joint the gravity load (None: statics not asked for)
     statics: Statics | None = None
 
     @property
     def would_recompute(self) -> tuple[str, ...]:
-        """Links ``fix`` (these options) would recompute from their geometry or spec."""
+        """Links `fix` (these options) would recompute from their geometry or spec."""
         return tuple(r.name for r in self.links if r.status == Status.RECOMPUTED)
 
     @property
     def would_change(self) -> tuple[str, ...]:
-        """Links whose inertial ``fix`` would change (recomputed or repaired)."""
+        """Links whose inertial `fix` would change (recomputed or repaired)."""
         return tuple(r.name for r in self.links if r.changed)
 
     @property
@@ -82,7 +90,7 @@ class CheckResult:
 
     @property
     def left(self) -> tuple[LinkResult, ...]:
-        """Links ``fix`` would leave as they are although they need changing (it exits 1)."""
+        """Links `fix` would leave as they are although they need changing (it exits 1)."""
         return tuple(r for r in self.links if r.status == Status.LEFT)
 
     def counts(self) -> dict[str, int]:
@@ -90,10 +98,10 @@ class CheckResult:
         return {s: sum(f.severity == s for f in self.findings) for s in SEVERITIES}
 
     def failing(self, strict: bool = False) -> tuple[Finding, ...]:
-        """The findings that fail the run: errors; with ``strict`` also every warning that
-        ``fix`` does not keep on purpose (:meth:`LinkResult.keeps`): a warning on a value
-        ``fix`` keeps, with the reason said, does not fail ``--strict``, so that ``check
-        --strict`` passes on what ``fix`` wrote."""
+        """The findings that fail the run: errors; with `strict` also every warning that `fix` does
+        not keep on purpose ([`LinkResult.keeps`][urdfinertia.plan.results.LinkResult.keeps]): a
+        warning on a value `fix` keeps, with the reason said, does not fail `--strict`, so that
+        `check --strict` passes on what `fix` wrote."""
         by_name = {r.name: r for r in self.links}
         out = []
         for f in self.findings:
@@ -106,18 +114,19 @@ class CheckResult:
         return tuple(out)
 
     def exit_code(self, strict: bool = False) -> int:
-        """1 when a finding fails the run (:meth:`failing`), a link could not be verified
-        or ``fix`` would leave a link that needs changing; else 0 (the command line's exit
-        code without a baseline)."""
+        """1 when a finding fails the run
+        ([`failing`][urdfinertia.analysis.check.CheckResult.failing]), a link could not be verified
+        or `fix` would leave a link that needs changing; else 0 (the command line's exit code
+        without a baseline)."""
         return 1 if self.unverified or self.left or self.failing(strict) else 0
 
 
 def check_robot(robot: Robot, *, meshes: MeshLibrary | None = None,
                 options: FixOptions | None = None, geometry: bool = True) -> list[Finding]:
-    """All findings for ``robot``, in link order, lumping notes last.
+    """All findings for `robot`, in link order, lumping notes last.
 
-    With ``geometry`` (the default) the links' geometry is read (through ``meshes``, a new
-    library when None) and the findings are those ``fix`` acts on; without it only the
+    With `geometry` (the default) the links' geometry is read (through `meshes`, a new
+    library when None) and the findings are those `fix` acts on; without it only the
     written values and mesh references are checked.
     """
     return list(check_description(robot, meshes=meshes, options=options,
@@ -129,18 +138,18 @@ def check_description(robot: Robot, *, meshes: MeshLibrary | None = None,
                       geometry: bool = True, statics: bool = True,
                       effort_margin: float = DEFAULT_MARGIN,
                       mass_tolerance: float = DEFAULT_MASS_TOLERANCE) -> CheckResult:
-    """``check`` of a robot already read: findings and every link's verdict.
+    """`check` of a robot already read: findings and every link's verdict.
 
-    With ``geometry`` (the default) the robot is judged as ``fix`` judges it
-    (:func:`urdfinertia.plan.fix.verdicts`): the findings are the verdicts' and the plan is
-    ``fix``'s. Without it only the written values and mesh references are checked (no
-    plan). With ``statics`` (the default) every joint's gravity load over its range is held
-    against its effort limit (:mod:`urdfinertia.analysis.statics`): an error when it
-    exceeds it, a warning within ``effort_margin`` of it. Target masses
-    (``options.total_mass``, the spec's ``total_mass`` and ``[subtree.NAME] mass``) are held
-    against the written masses: UI703 beyond ``mass_tolerance`` (a fraction); the plan is
-    ``fix``'s with the targets, or without them where ``fix`` would refuse them (the
-    finding says so). ``options.realizable`` is the region UI210 tests the written
+    With `geometry` (the default) the robot is judged as `fix` judges it
+    (`urdfinertia.plan.fix.verdicts`): the findings are the verdicts' and the plan is
+    `fix`'s. Without it only the written values and mesh references are checked (no
+    plan). With `statics` (the default) every joint's gravity load over its range is held
+    against its effort limit (`urdfinertia.analysis.statics`): an error when it
+    exceeds it, a warning within `effort_margin` of it. Target masses
+    (`options.total_mass`, the spec's `total_mass` and `[subtree.NAME] mass`) are held
+    against the written masses: UI703 beyond `mass_tolerance` (a fraction); the plan is
+    `fix`'s with the targets, or without them where `fix` would refuse them (the
+    finding says so). `options.realizable` is the region UI210 tests the written
     inertials in.
     """
     from urdfinertia.plan.fix import verdicts

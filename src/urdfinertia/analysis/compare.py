@@ -1,30 +1,30 @@
-"""The ``compare`` job: per-link differences between two sets of inertials.
+"""The `compare` job: per-link differences between two sets of inertials.
 
 Side A is the existing (CAD) inertial or the first URDF; side B is computed from the
-geometry (:func:`compare_with_geometry`) or read from a second URDF (:func:`compare_files`).
+geometry (`compare_with_geometry`) or read from a second URDF (`compare_files`).
 Both are taken in the link frame about their own CoM.
 
 Metrics (each None when a side lacks what it needs):
 
-- ``mass_ratio`` = m_B / m_A;
-- ``com_distance`` = |c_B - c_A| in m, and ``com_distance_rel`` = that over the link size
-  ``L = sqrt(tr I / m)`` of side B (of A when B has none): a radius-of-gyration length, which
+- `mass_ratio` = m_B / m_A;
+- `com_distance` = |c_B - c_A| in m, and `com_distance_rel` = that over the link size
+  `L = sqrt(tr I / m)` of side B (of A when B has none): a radius-of-gyration length, which
   does not depend on where the link frame's origin sits;
-- ``inertia_rel_error`` = ||I_B - I_A||_F / ||I_A||_F (relative to side A);
-- ``axis_angle_deg``: the largest angle between corresponding principal axes. An axis whose
-  moment lies within ``DEGENERATE_RTOL`` of another's is not unique (any axis in that plane is
+- `inertia_rel_error` = ||I_B - I_A||_F / ||I_A||_F (relative to side A);
+- `axis_angle_deg`: the largest angle between corresponding principal axes. An axis whose
+  moment lies within `DEGENERATE_RTOL` of another's is not unique (any axis in that plane is
   principal), so it is taken at its best choice: the angle from the other side's axis to that
   plane. A (nearly) isotropic tensor has every axis principal, so it agrees with anything (0).
 
-Against the geometry, every link also carries ``fix``'s decision (its verdict, the one
-``check``, ``fix``, ``report`` and the library give). Side B stays the homogeneous
-geometry's value, but a link beyond tolerance that ``fix`` keeps (plausible as written, or
+Against the geometry, every link also carries `fix`'s decision (its verdict, the one
+`check`, `fix`, `report` and the library give). Side B stays the homogeneous
+geometry's value, but a link beyond tolerance that `fix` keeps (plausible as written, or
 geometry that is not the body) gets the verdict "kept", not "differs": the homogeneous
-model is a model, and what the user acts on is what ``fix`` would change. ``--fail-above``
+model is a model, and what the user acts on is what `fix` would change. `--fail-above`
 counts only "differs" and "invalid" links.
 
-The maths here is numpy only; :func:`compare_with_geometry` and :func:`compare_files` only
-read files and run :mod:`fix`.
+The maths here is numpy only; `compare_with_geometry` and `compare_files` only
+read files and run [`fix`][urdfinertia.plan.fix].
 """
 
 from __future__ import annotations

@@ -1,19 +1,19 @@
 """Per-element and per-part breakdown of one link: the paper's section 5 analysis.
 
 For every element p and part q of a link: its mass, its centre of mass in the link frame,
-its tensor about its own centre of mass (``I_sp``, eq. 39) and about the link's centre of
-mass (``I_p,s``, eq. 43, Huygens-Steiner), and its share of each principal moment of the
-link: ``e_k^T I_p,s e_k / lambda_k`` for the link's principal axes e_k and moments
-lambda_k. Since ``sum_p I_p,s = I_s`` (eq. 44), the shares of all elements add up to 1 on
+its tensor about its own centre of mass (`I_sp`, eq. 39) and about the link's centre of
+mass (`I_p,s`, eq. 43, Huygens-Steiner), and its share of each principal moment of the
+link: `e_k^T I_p,s e_k / lambda_k` for the link's principal axes e_k and moments
+lambda_k. Since `sum_p I_p,s = I_s` (eq. 44), the shares of all elements add up to 1 on
 every axis. Cavities have negative mass and negative shares.
 
-The link's total is what ``fix`` writes (its verdict, :func:`urdfinertia.plan.fix.link_verdict`):
-the kept CoM where ``fix`` keeps it, the written values of a link ``fix`` keeps. The
+The link's total is what `fix` writes (its verdict, `urdfinertia.plan.fix.link_verdict`):
+the kept CoM where `fix` keeps it, the written values of a link `fix` keeps. The
 elements are the geometry's homogeneous model, taken about the geometry's own centroid
-(where eq. 44 holds), whatever ``fix`` decided.
+(where eq. 44 holds), whatever `fix` decided.
 
-No printing here: :mod:`urdfinertia.render.table` renders a :class:`Breakdown`,
-:func:`breakdown_dict` makes it JSON-ready.
+No printing here: `urdfinertia.render.table` renders a
+[`Breakdown`][urdfinertia.analysis.explain.Breakdown], `breakdown_dict` makes it JSON-ready.
 """
 
 from __future__ import annotations
@@ -75,10 +75,33 @@ class ElementBreakdown:
 
 @dataclass(frozen=True, eq=False)
 class Breakdown:
-    """A link's total (what ``fix`` writes) and its elements' and parts' contributions.
+    """A link's total (what `fix` writes) and its elements' and parts' contributions.
 
-    geometry_total : the homogeneous geometry's own mass properties (the elements' sum).
-    decision : what ``fix`` does with the link ("kept: plausible", ...).
+    Attributes
+    ----------
+    link : str
+    geometry : str
+        What the parts come from: "spec", "collision" or "visual".
+    mass_source : str
+        What the link's mass is taken from (the assembly's `MassSource`, as text).
+    total : MassProperties
+        What `fix` writes for the link.
+    moments : (3,) float
+        Principal moments of `total`, ascending, kg m^2.
+    axes : (3, 3) float
+        Principal axes as columns, in the link frame.
+    elements : tuple of ElementBreakdown
+        Every element with its parts, in first-seen order.
+    findings : tuple of Finding
+        The verdict's findings.
+    geometry_total : MassProperties or None
+        The homogeneous geometry's own mass properties (the elements' sum).
+    decision : str
+        What `fix` does with the link ("kept: plausible", ...).
+    verdict : LinkResult or None
+        The link's verdict.
+    choice : GeometryChoice or None
+        Which geometry the parts are, and why (`--geometry auto` chooses per link).
     """
 
     link: str
@@ -92,7 +115,6 @@ class Breakdown:
     geometry_total: MassProperties | None = None
     decision: str = ""
     verdict: LinkResult | None = None
-    #: which geometry the parts are, and why (``--geometry auto`` chooses per link)
     choice: GeometryChoice | None = None
 
 

@@ -2,7 +2,7 @@
 
 The homogeneous solid of a link's outer geometry is a model: real links are hollow, hold
 motors and cables, and their mass sits unevenly. Measured over real robots with their CAD
-tensors withheld (``scripts/bench_cad.py``), the relative Frobenius error of the solid's
+tensors withheld (`scripts/bench_cad.py`), the relative Frobenius error of the solid's
 tensor about the CoM grows with the distance between the solid's centroid and the CAD CoM
 (a CoM far from the centroid means uneven mass, which the solid cannot see). So:
 
@@ -11,9 +11,9 @@ tensor about the CoM grows with the distance between the solid's centroid and th
   (collision or visual) and the centroid-to-CoM offset, as a fraction of the geometry's
   bounding-box diagonal;
 - when the geometry needs an implied density (kept mass over its volume) above
-  :data:`~urdfinertia.body.geometry_choice.DENSE` (solid titanium) to hold the kept mass,
+  `urdfinertia.body.geometry_choice.DENSE` (solid titanium) to hold the kept mass,
   it likely misses volume (open shells, parts not drawn) and the band is that of such
-  links, whatever the offset (:data:`DENSE_CELL`);
+  links, whatever the offset (`DENSE_CELL`);
 - when the CoM is derived too, nothing tells how uneven the link is, and the band is the
   spread of the homogeneous model over all links.
 
@@ -82,12 +82,21 @@ BAND_LEVEL = 0.80
 class ErrorBar:
     """Expected relative error of a derived tensor against CAD (Frobenius, about the CoM).
 
-    band : the error stays below this fraction for :data:`BAND_LEVEL` of links.
-    basis : "offset" (from the kind of geometry and the centroid-to-CoM offset) or
-        "model" (CoM not known).
-    offset : centroid-to-CoM offset as a fraction of the box diagonal (None for "model").
-    kind : the kind of geometry the tensor came from ("primitive", "hull", "mesh"; None
+    Attributes
+    ----------
+    band : float
+        The error stays below this fraction for `BAND_LEVEL` of links.
+    basis : {"offset", "density", "model"}
+        "offset" (from the kind of geometry and the centroid-to-CoM offset), "density"
+        (an implied density above `urdfinertia.body.geometry_choice.DENSE`: the geometry
+        may miss volume) or "model" (CoM not known).
+    offset : float or None
+        Centroid-to-CoM offset as a fraction of the box diagonal (None for "model").
+    kind : str or None
+        The kind of geometry the tensor came from ("primitive", "hull", "mesh"; None
         when not known).
+    density : float or None
+        The kept mass over the geometry's volume, kg/m^3; None when no mass is kept.
     """
 
     band: float

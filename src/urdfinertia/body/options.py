@@ -1,8 +1,8 @@
 """What the user asked for: the options of every command that computes from geometry.
 
-:class:`FixOptions` is a frozen value; :func:`select_geometry` is the one rule for which
-of a link's elements make its parts. Importable without numpy or lxml (a warm batch run
-needs only this).
+[`FixOptions`][urdfinertia.body.options.FixOptions] is a frozen value; `select_geometry` is
+the one rule for which of a link's elements make its parts. Importable without numpy or lxml
+(a warm batch run needs only this).
 """
 
 from __future__ import annotations
@@ -32,19 +32,46 @@ PLAUSIBLE_DENSITY = (50.0, 25000.0)
 
 @dataclass(frozen=True)
 class FixOptions:
-    """What ``urdf-inertia fix`` was asked to do.
+    """What `urdf-inertia fix` was asked to do.
 
-    geometry : "auto" (per link, the geometry that best represents the body:
-        :mod:`urdfinertia.body.geometry_choice`), "collision" or "visual".
-    mass : "keep" (keep a link's existing positive mass, geometry gives CoM and tensor)
-        or "density" (mass = density x volume).
-    density : kg/m^3 used when a link has no mass or with ``mass="density"``.
-    strict : all or nothing: an element dropped, a value of a link ignored or a link left
-        as it was makes :func:`~urdfinertia.plan.fix.fix_robot` raise (``--strict``).
-    recompute : which links are recomputed (:data:`RECOMPUTE_MODES`); ``links`` names them
-        for "links". Links named in ``spec`` are always recomputed.
-    total_mass : kg the robot weighs: derived masses are scaled to meet it, kept ones too
-        with ``scale_kept`` (``--total-mass``, ``--scale-kept``).
+    Attributes
+    ----------
+    geometry : {"auto", "collision", "visual"}
+        "auto" (per link, the geometry that best represents the body:
+        `urdfinertia.body.geometry_choice`), "collision" or "visual".
+    mass : {"keep", "density"}
+        "keep" (keep a link's existing positive mass, geometry gives CoM and tensor) or
+        "density" (mass = density x volume).
+    density : float
+        kg/m^3 used when a link has no mass or with `mass="density"`.
+    package_dirs : mapping of str to Path
+        Where `package://NAME/` points (`--package-dir NAME=PATH`).
+    max_faces : int
+        Meshes with more faces are refused before they are read (`--max-faces`).
+    spec : Spec or None
+        A decomposition spec, when given.
+    strict : bool
+        All or nothing: an element dropped, a value of a link ignored or a link left as it
+        was makes [`fix_robot`][urdfinertia.plan.fix.fix_robot] raise (`--strict`).
+    keep_auto : bool
+        Leave inertials the description asks its simulator to compute (SDF `auto="true"`).
+    recompute : {"needed", "all", "links"}
+        Which links are recomputed (`RECOMPUTE_MODES`); `links` names them for "links".
+        Links named in `spec` are always recomputed.
+    links : tuple of str
+        The links recomputed with `recompute="links"`.
+    slips : bool
+        Undo a clear one-edit slip of a flagged inertial (`urdfinertia.judge.slips`)
+        instead of deriving it from the geometry (`--no-slips`: False).
+    total_mass : float or None
+        kg the robot weighs: derived masses are scaled to meet it
+        (`urdfinertia.plan.total_mass`), kept ones too with `scale_kept`
+        (`--total-mass`, `--scale-kept`).
+    scale_kept : bool
+        With `total_mass`, scale every mass, kept ones too.
+    realizable : {"ellipsoid", "hull"}
+        The region the written inertials are held in for realizability (UI210):
+        "ellipsoid" (the geometry's bounding ellipsoid) or "hull" (its convex hull, slower).
     """
 
     geometry: str = "auto"
@@ -54,19 +81,12 @@ class FixOptions:
     max_faces: int = DEFAULT_MAX_FACES
     spec: Spec | None = None  # a decomposition spec, when given
     strict: bool = False
-    #: leave inertials the description asks its simulator to compute (SDF auto="true")
     keep_auto: bool = False
     recompute: str = "needed"
     links: tuple[str, ...] = ()
-    #: undo a clear one-edit slip of a flagged inertial (:mod:`urdfinertia.judge.slips`)
-    #: instead of deriving it from the geometry (``--no-slips``: False)
     slips: bool = True
-    #: the robot's total mass, kg: the derived masses are scaled to meet it
-    #: (:mod:`urdfinertia.plan.total_mass`); ``scale_kept`` scales every mass
     total_mass: float | None = None
     scale_kept: bool = False
-    #: the region the written inertials are held in for realizability (UI210):
-    #: "ellipsoid" (the geometry's bounding ellipsoid) or "hull" (its convex hull, slower)
     realizable: str = "ellipsoid"
 
     def __post_init__(self) -> None:

@@ -3,12 +3,12 @@
 A link is divided into elements, each with its own frame in the link frame (xyz + rpy:
 the paper's gamma, alpha, delta, eqs. 14-17), and each element into parts with their own
 frame in the element frame (section 2). A part is a primitive, a mesh file or a reference
-to one of the link's ``<collision>``/``<visual>`` elements, and carries a known mass, a
+to one of the link's `<collision>`/`<visual>` elements, and carries a known mass, a
 density or a material name, or nothing (it then shares the link's pinned or default mass
-by volume). See ``docs/sections/03-spec.md`` for the format.
+by volume). See `docs/spec.md` for the format.
 
 Errors name the spec file and the TOML key path, e.g.
-``links.link1.elements.k.parts.body.density``.
+`links.link1.elements.k.parts.body.density`.
 """
 
 from __future__ import annotations
@@ -225,13 +225,23 @@ class LinkSpec:
 
 @dataclass(frozen=True)
 class Spec:
-    """A whole spec file: link name -> :class:`LinkSpec`."""
+    """A whole spec file: link name -> `LinkSpec`.
+
+    Attributes
+    ----------
+    path : Path
+        The spec file.
+    links : tuple of LinkSpec
+        One entry per link the spec names.
+    total_mass : float or None
+        `total_mass`: what the whole robot weighs, kg (`urdfinertia.plan.total_mass`).
+    subtree_masses : mapping of str to float
+        `[subtree.NAME] mass`: link NAME and the links below it weigh this much, kg.
+    """
 
     path: Path
     links: tuple[LinkSpec, ...]
-    #: ``total_mass``: what the whole robot weighs, kg (:mod:`urdfinertia.plan.total_mass`)
     total_mass: float | None = None
-    #: ``[subtree.NAME] mass``: link NAME and the links below it weigh this much, kg
     subtree_masses: Mapping[str, float] = field(default_factory=dict)
 
     @property
@@ -246,7 +256,8 @@ class Spec:
         return None
 
     def check_links(self, robot: Robot) -> None:
-        """Raise :class:`SpecError` for spec links the URDF lacks or bad references."""
+        """Raise [`SpecError`][urdfinertia.errors.SpecError] for spec links the URDF lacks or bad
+        references."""
         names = [link.name for link in robot.links]
         for ls in self.links:
             if ls.name not in names:

@@ -1,17 +1,18 @@
-"""The ``fix`` job: judge the robot, plan every link, carry the plan out, patch the file.
+"""The `fix` job: judge the robot, plan every link, carry the plan out, patch the file.
 
-The data flow, one way: the robot model and its geometry (:mod:`urdfinertia.body.evidence`)
--> the judgement, with the whole robot as evidence (:mod:`urdfinertia.judge.robot`) -> the
-plan of every link (:mod:`.policy`: **where a link's verdict is made**) -> carrying it out
-(:mod:`.execute`) -> target masses met (:mod:`.total_mass`) -> the patched document.
-:func:`link_verdicts` stops before the document: it is what ``check``, ``compare``,
-``explain``, ``report`` and the library render. Nothing here touches the file system
-except :func:`fix_file`'s reading; writing the result is the caller's job
-(:mod:`.save`).
+The data flow, one way: the robot model and its geometry (`urdfinertia.body.evidence`) -> the
+judgement, with the whole robot as evidence (`urdfinertia.judge.robot`) -> the plan of every link
+(`urdfinertia.plan.policy`: **where a link's verdict is made**) -> carrying it out
+(`urdfinertia.plan.execute`) -> target masses met (`urdfinertia.plan.total_mass`) -> the patched
+document. `link_verdicts` stops before the document: it is what `check`, `compare`, `explain`,
+`report` and the library render. Nothing here touches the file system except
+[`fix_file`][urdfinertia.plan.fix.fix_file]'s reading; writing the result is the caller's job
+([`urdfinertia.plan.save`][urdfinertia.plan.save]).
 
-Fault isolation: a link with nothing usable is left exactly as it was, with the reason.
-Whether that is acceptable (exit 1) or all-or-nothing (``--strict``) is the caller's
-decision: :meth:`~.results.FixResult.strict_refusal` is that policy over the findings.
+Fault isolation: a link with nothing usable is left exactly as it was, with the reason. Whether that
+is acceptable (exit 1) or all-or-nothing (`--strict`) is the caller's decision:
+[`FixResult.strict_refusal`][urdfinertia.plan.results.FixResult.strict_refusal] is that policy over
+the findings.
 """
 
 from __future__ import annotations
@@ -93,7 +94,7 @@ def link_verdict(robot: Robot, name: str, options: FixOptions,
 
 def fix_robot(robot: Robot, data: bytes, options: FixOptions,
               meshes: MeshLibrary | None = None) -> FixResult:
-    """Every link's verdict (:func:`verdicts`) and the patched document."""
+    """Every link's verdict (`verdicts`) and the patched document."""
     from urdfinertia.descriptions.formats import VALUES, NewInertial, format_of
 
     path = robot.path or Path("robot.urdf")
@@ -119,10 +120,11 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
 
 def fix_file(path: str | Path, options: FixOptions | None = None,
              meshes: MeshLibrary | None = None) -> FixResult:
-    """Read the description at ``path`` (any format) and fix it (:func:`fix_robot`).
+    """Read the description at `path` (any format) and fix it
+    ([`fix_robot`][urdfinertia.plan.fix.fix_robot]).
 
-    ``options`` default to ``FixOptions()``, the command line's defaults. Nothing is
-    written: the patched document is ``result.output``.
+    `options` default to `FixOptions()`, the command line's defaults. Nothing is
+    written: the patched document is `result.output`.
     """
     from urdfinertia.descriptions.formats import read_description
 

@@ -1,13 +1,15 @@
-"""One answer per link: the :class:`LinkResult` verdict, and the :class:`FixResult` of a file.
+"""One answer per link: the [`LinkResult`][urdfinertia.plan.results.LinkResult] verdict,
+and the [`FixResult`][urdfinertia.plan.results.FixResult] of a file.
 
-A :class:`LinkResult` is made once, by :func:`urdfinertia.plan.fix.link_verdicts`, and
-rendered by every command (``fix``, ``check``, ``compare``, ``explain``, ``report``), by
-their JSON, SARIF and annotations, and by the Python API. It carries the link's findings
-(each with its rule: the one channel of everything said about the link), the plan's
-:class:`Action` with its grounds (the rules it answers) and, where ``fix`` keeps or leaves
-a link despite findings, the rule that says why; what was kept and what derived, the
-values before and after, the error bar of a derived tensor, the geometry choice and the
-slip undone. Every text a surface shows is rendered from these by :func:`describe`.
+A [`LinkResult`][urdfinertia.plan.results.LinkResult] is made once, by
+`urdfinertia.plan.fix.link_verdicts`, and rendered by every command (`fix`, `check`,
+`compare`, `explain`, `report`), by their JSON, SARIF and annotations, and by the Python
+API. It carries the link's findings (each with its rule: the one channel of everything said
+about the link), the plan's [`Action`][urdfinertia.plan.results.Action] with its grounds
+(the rules it answers) and, where `fix` keeps or leaves a link despite findings, the rule
+that says why; what was kept and what derived, the values before and after, the error bar
+of a derived tensor, the geometry choice and the slip undone. Every text a surface shows is
+rendered from these by `describe`.
 """
 
 from __future__ import annotations
@@ -35,31 +37,33 @@ if TYPE_CHECKING:
 class Status(StrEnum):
     """What happened to a link's inertial (string values: JSON stays readable)."""
 
-    #: derived from the geometry (or a spec), the trusted values kept
     RECOMPUTED = "recomputed"
-    #: the minimal repair, or a slip undone: the values the author meant
+    """Derived from the geometry (or a spec), the trusted values kept."""
     REPAIRED = "repaired"
-    #: plausible: kept byte for byte
+    """The minimal repair, or a slip undone: the values the author meant."""
     KEPT = "kept"
-    #: nothing to do or nothing to compute from: left byte for byte
+    """Plausible: kept byte for byte."""
     UNTOUCHED = "untouched"
-    #: it should have been changed but could not be: left as written (``reason`` says why)
+    """Nothing to do or nothing to compute from: left byte for byte."""
     LEFT = "left"
+    """It should have been changed but could not be: left as written
+    ([`reason`][urdfinertia.plan.results.LinkResult.reason] says why).
+    """
 
 
 class Action(StrEnum):
-    """What the plan decided for a link (:mod:`urdfinertia.plan.policy`)."""
+    """What the plan decided for a link (`urdfinertia.plan.policy`)."""
 
-    #: derive the values it distrusts from the geometry (or a spec), keep the rest
     RECOMPUTE = "recompute"
-    #: keep the written values byte for byte
+    """Derive the values it distrusts from the geometry (or a spec), keep the rest."""
     KEEP = "keep"
-    #: the minimal repair of an invalid tensor (nothing to derive from)
+    """Keep the written values byte for byte."""
     REPAIR = "repair"
-    #: leave the link as it is (a frame; or nothing usable: then it is "left")
+    """The minimal repair of an invalid tensor (nothing to derive from)."""
     LEAVE = "leave"
-    #: undo a slip: one edit of the written values (:mod:`urdfinertia.judge.slips`)
+    """Leave the link as it is (a frame; or nothing usable: then it is "left")."""
     CORRECT = "correct"
+    """Undo a slip: one edit of the written values (`urdfinertia.judge.slips`)."""
 
 
 #: Statuses whose inertial the output carries changed.
@@ -98,7 +102,7 @@ _PAST = {Action.RECOMPUTE: "recomputed", Action.KEEP: "kept", Action.REPAIR: "re
 
 @dataclass(frozen=True, eq=False)
 class LinkResult:
-    """One link's verdict: what ``fix`` does with it and why, rendered by every command.
+    """One link's verdict: what `fix` does with it and why, rendered by every command.
 
     Attributes
     ----------
@@ -121,7 +125,7 @@ class LinkResult:
     assembly : Assembly or None
         The new values and their parts (None: the written values stay).
     previous : Inertial or None
-        The ``<inertial>`` as written.
+        The `<inertial>` as written.
     kept, derived : tuple of str
         Which of "mass", "com", "tensor" were kept as written and which derived.
     error_bar : ErrorBar or None
@@ -208,12 +212,12 @@ class LinkResult:
 
     @property
     def decision(self) -> str:
-        """The decision in one phrase, as ``fix`` says it ("kept: plausible")."""
+        """The decision in one phrase, as `fix` says it ("kept: plausible")."""
         return describe(self, done=True)
 
     @property
     def planned(self) -> str:
-        """The decision as a plan, as ``check`` says it ("would be kept: plausible")."""
+        """The decision as a plan, as `check` says it ("would be kept: plausible")."""
         return describe(self, done=False)
 
     @property
@@ -241,9 +245,9 @@ class LinkResult:
                      and f.severity != Severity.INFO)
 
     def keeps(self, finding: Finding) -> bool:
-        """``fix`` keeps the value ``finding`` is about, on purpose, and says why (``check
-        --strict`` does not fail on it): an info, or a finding on the values of a link
-        that ``fix`` keeps as written."""
+        """`fix` keeps the value `finding` is about, on purpose, and says why (`check
+        --strict` does not fail on it): an info, or a finding on the values of a link
+        that `fix` keeps as written."""
         if finding.severity == Severity.INFO:
             return True
         return (finding.link == self.name and self.status == Status.KEPT
@@ -290,7 +294,7 @@ _READ_AS_WRITTEN = frozenset({Rule.VALUE_UNREADABLE, Rule.VECTOR_COMMAS})
 
 @dataclass(frozen=True, eq=False)
 class FixResult:
-    """A file's verdicts and its patched document (``output``; the input is ``original``).
+    """A file's verdicts and its patched document (`output`; the input is `original`).
 
     Attributes
     ----------
@@ -299,7 +303,7 @@ class FixResult:
     links : tuple of LinkResult
         Every link's verdict, in document order.
     original, output : bytes
-        The document as read and as ``fix`` writes it.
+        The document as read and as `fix` writes it.
     targets : tuple of TargetOutcome
         The target masses met, innermost first.
     findings : tuple of Finding
@@ -321,7 +325,7 @@ class FixResult:
         return self.output != self.original
 
     def link(self, name: str) -> LinkResult:
-        """The verdict of link ``name`` (KeyError if there is none)."""
+        """The verdict of link `name` (KeyError if there is none)."""
         for r in self.links:
             if r.name == name:
                 return r
@@ -354,11 +358,11 @@ class FixResult:
 
     def save(self, path: str | Path | None = None, *, in_place: bool = False,
              backup: bool = True, keep_mesh_paths: bool = False) -> SaveReport:
-        """Write the fixed document, as ``urdf-inertia fix -o PATH`` (or ``--in-place``).
+        """Write the fixed document, as `urdf-inertia fix -o PATH` (or `--in-place`).
 
-        Relative references are rewritten to resolve from ``path``'s folder, the write is
-        atomic, and ``in_place`` keeps ``<input>.bak`` unless ``backup=False``. See
-        :func:`urdfinertia.plan.save.save_result` for the parameters and errors.
+        Relative references are rewritten to resolve from `path`'s folder, the write is
+        atomic, and `in_place` keeps `<input>.bak` unless `backup=False`. See
+        [`save_result`][urdfinertia.plan.save.save_result] for the parameters and errors.
 
         Returns
         -------
@@ -384,7 +388,7 @@ class FixResult:
                          link=r.name)
 
     def strict_refusal(self) -> UrdfError | None:
-        """What ``--strict`` refuses: the first element dropped or value of a link not
+        """What `--strict` refuses: the first element dropped or value of a link not
         read, else the first link left as it was; None when the result is whole."""
         from urdfinertia.errors import UrdfError
 

@@ -1,10 +1,11 @@
-"""Save a fixed description: the one path from a :class:`FixResult` to a file on disk.
+"""Save a fixed description: the one path from a
+[`FixResult`][urdfinertia.plan.results.FixResult] to a file on disk.
 
-``urdf-inertia fix -o`` / ``--in-place`` and :meth:`FixResult.save` both come here, so the
-library writes the same bytes as the command line: the patched document with its relative
-references (meshes, textures, included files, asset folders) made to resolve from the
-output's folder, written atomically (:mod:`urdfinertia.atomic`), with a backup of the
-input when it is replaced.
+`urdf-inertia fix -o` / `--in-place` and
+[`FixResult.save`][urdfinertia.plan.results.FixResult.save] both come here, so the library
+writes the same bytes as the command line: the patched document with its relative references
+(meshes, textures, included files, asset folders) made to resolve from the output's folder,
+written atomically (`urdfinertia.atomic`), with a backup of the input when it is replaced.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ BACKUP_SUFFIX = ".bak"
 
 @dataclass(frozen=True)
 class SaveReport:
-    """What :func:`save_result` did.
+    """What [`save_result`][urdfinertia.plan.save.save_result] did.
 
     Attributes
     ----------
@@ -41,7 +42,7 @@ class SaveReport:
     references_rewritten : int
         Relative references rewritten to resolve from the output's folder.
     backup : Path or None
-        The copy of the replaced input (in place with ``backup=True``).
+        The copy of the replaced input (in place with `backup=True`).
     """
 
     path: Path
@@ -80,23 +81,23 @@ def output_bytes(result: FixResult, path: str | Path, *, keep_mesh_paths: bool =
 
 def save_result(result: FixResult, path: str | Path | None = None, *, in_place: bool = False,
                 backup: bool = True, keep_mesh_paths: bool = False) -> SaveReport:
-    """Write a fixed description to ``path``, or over its input.
+    """Write a fixed description to `path`, or over its input.
 
     Parameters
     ----------
     result : FixResult
-        What :func:`urdfinertia.fix` (or ``fix_file``) returned.
+        What [`urdfinertia.fix`][urdfinertia.api.fix] (or `fix_file`) returned.
     path : str or Path, optional
         The output file. Its folder must exist. A format with a default output (USD: the
-        override layer ``<asset>.inertia.usda`` beside the asset) is saved there when
-        ``path`` is omitted. Relative references of the document are
-        rewritten to name the same files from there (unless ``keep_mesh_paths``).
+        override layer `<asset>.inertia.usda` beside the asset) is saved there when
+        `path` is omitted. Relative references of the document are
+        rewritten to name the same files from there (unless `keep_mesh_paths`).
     in_place : bool
-        Replace the input file (``result.path``) instead; ``path`` must then be omitted
+        Replace the input file (`result.path`) instead; `path` must then be omitted
         or name the input. Nothing is written when the document did not change.
     backup : bool
-        With ``in_place``: first keep a complete copy of the input as
-        ``<input>.bak`` (written atomically, an older one replaced).
+        With `in_place`: first keep a complete copy of the input as
+        `<input>.bak` (written atomically, an older one replaced).
     keep_mesh_paths : bool
         Write relative references as they are, even in another folder.
 
@@ -108,8 +109,8 @@ def save_result(result: FixResult, path: str | Path | None = None, *, in_place: 
     Raises
     ------
     OutputError
-        The file cannot be written; ``path`` names the input without ``in_place``; neither
-        ``path`` nor ``in_place`` is given; or ``in_place`` is asked for a xacro input
+        The file cannot be written; `path` names the input without `in_place`; neither
+        `path` nor `in_place` is given; or `in_place` is asked for a xacro input
         (its sources are edited by write-back, not replaced by the expansion).
 
     Notes
@@ -158,21 +159,21 @@ def save_result(result: FixResult, path: str | Path | None = None, *, in_place: 
 def write_back(result: FixResult, *, xacro_args: Mapping[str, str] | None = None,
                package_dirs: Mapping[str, str | Path] | None = None,
                backup: bool = True, report: str | Path | None = None) -> Plan:
-    """Write a fixed xacro robot's new values into its sources (``fix --write-back``).
+    """Write a fixed xacro robot's new values into its sources (`fix --write-back`).
 
     Each value is changed where it is written: a literal, a property, a macro call's
     attribute or a YAML scalar; values that are computed or shared by several links are
     reported in the plan, not changed. The edited sources are expanded again and must give
-    ``result.output`` before anything is kept.
+    `result.output` before anything is kept.
 
     Parameters
     ----------
     result : FixResult
-        :func:`urdfinertia.fix` of a xacro file.
+        [`urdfinertia.fix`][urdfinertia.api.fix] of a xacro file.
     xacro_args, package_dirs : mapping, optional
         The xacro arguments and package folders the robot was fixed with.
     backup : bool
-        Keep ``<source>.bak`` of every file changed.
+        Keep `<source>.bak` of every file changed.
     report : str or Path, optional
         Write the links not written back, with where each value comes from, to this YAML
         file (before the sources are edited, so it is there even when editing fails).
@@ -185,7 +186,7 @@ def write_back(result: FixResult, *, xacro_args: Mapping[str, str] | None = None
     Raises
     ------
     UrdfInertiaError
-        The input is not xacro, or its sources changed since ``result`` was computed, or
+        The input is not xacro, or its sources changed since `result` was computed, or
         the edited sources do not expand to the fixed document (nothing is then kept).
     """
     from urdfinertia.descriptions.formats import read_bytes

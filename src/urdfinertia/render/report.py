@@ -1,8 +1,8 @@
-"""The ``report`` job: one self-contained HTML page a person can look at.
+"""The `report` job: one self-contained HTML page a person can look at.
 
 It holds a 3-D view of the robot at its zero configuration with the equivalent-inertia
-boxes of the existing and the recomputed inertials (:mod:`report_scene`), the per-link
-error plot of ``compare`` and a per-link table. plotly.js is inlined and MathJax left out,
+boxes of the existing and the recomputed inertials (`urdfinertia.render.scene`), the per-link
+error plot of `compare` and a per-link table. plotly.js is inlined and MathJax left out,
 so the page loads nothing from the network and works offline.
 """
 
@@ -87,8 +87,26 @@ class LinkRow:
 
 @dataclass(frozen=True, eq=False)
 class ReportData:
-    """The report's content: ``fix`` is the default fix (its verdicts and what it writes),
-    ``geometry`` every link computed from its geometry (compare's side B)."""
+    """The report's content: `fix` is the default fix (its verdicts and what it writes),
+    `geometry` every link computed from its geometry (compare's side B).
+
+    Attributes
+    ----------
+    fix : FixResult
+        The default fix: its verdicts and what it writes.
+    options : FixOptions
+        The options the report was made with.
+    rows : tuple of LinkRow
+        Everything the report says about each link, in document order.
+    scene : Scene
+        The 3-D view: the robot at its zero configuration, and the inertia boxes.
+    robot_findings : tuple of Finding
+        The findings with no link.
+    summary : dict
+        `compare`'s summary of the links (`urdfinertia.analysis.compare.summary`).
+    error_series : dict
+        The per-link error plot's data (`urdfinertia.render.compare_plot.error_series`).
+    """
 
     fix: FixResult
     options: FixOptions
