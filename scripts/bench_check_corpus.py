@@ -26,7 +26,7 @@ from support.corpus import example_robot_data_dir  # noqa: E402
 
 from urdfinertia.analysis.check import check_robot  # noqa: E402
 from urdfinertia.cache.library import MeshLibrary  # noqa: E402
-from urdfinertia.descriptions.urdf.lenient import read_urdf_lenient  # noqa: E402
+from urdfinertia.descriptions.formats import read_description  # noqa: E402
 from urdfinertia.errors import UrdfInertiaError  # noqa: E402
 
 
@@ -73,7 +73,7 @@ def main(argv: list[str] | None = None) -> int:
         rel = str(path.relative_to(erd / "robots"))
         t0 = time.perf_counter()
         try:
-            robot, _ = read_urdf_lenient(path)
+            robot, _ = read_description(path)
         except UrdfInertiaError as exc:
             print(f"{rel}: unreadable: {exc.cause}")
             continue
