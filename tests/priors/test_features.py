@@ -48,6 +48,9 @@ def hand() -> Robot:
 
 @pytest.mark.parametrize(("model", "kind"), [
     (arm("kr6r900sixx"), "industrial arm"),
+    (arm("kuka_kr6r900sixx"), "industrial arm"),
+    (arm("fanuc_m20ia"), "industrial arm"),
+    (arm("kraken"), "cobot"),
     (arm("abb_irb2400"), "industrial arm"),
     (arm("panda", 7), "cobot"),
     (robot("go1", legs(["FL", "FR", "RL", "RR"])), "quadruped"),

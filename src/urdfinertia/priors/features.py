@@ -59,8 +59,9 @@ _WORDS: dict[str, tuple[str, ...]] = {
     "base": ("base", "world", "root", "mount", "pedestal", "chassis", "platform"),
 }
 #: Makers' industrial series (lower-case, searched in the robot's and links' names).
-_INDUSTRIAL = re.compile(r"\bkr\d|irb|fanuc|lrmate|lr_mate|motoman|yaskawa|staubli|stäubli|"
-                         r"comau|kawasaki|nachi|denso|epson|\bcrb\b|m\d{2,}i[abcd]")
+_INDUSTRIAL = re.compile(r"(?<![a-z])kr\d|irb|fanuc|lrmate|lr_mate|motoman|yaskawa|staubli|"
+                         r"stäubli|comau|kawasaki|nachi|denso|epson|(?<![a-z])crb(?![a-z])|"
+                         r"(?<![a-z])m\d{2,}i[abcd]")
 _HINTS = {"dense": ("motor", "servo", "actuator", "battery", "steel", "stator", "gear",
                     "drive", "brass", "lead", "weight"),
           "light": ("foam", "plastic", "pla", "abs", "cover", "shell", "carbon", "fairing",
