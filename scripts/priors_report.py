@@ -175,14 +175,19 @@ def _mass(corpus: Corpus, unique: list[int], robots: list[list[int]]) -> dict[st
             print(line(f"  {k}", idx, rob))
     water_made = [i for i in unique if _water_made(corpus, i)]
     rest = [i for i in unique if i not in set(water_made)]
+    by_package: dict[str, int] = defaultdict(int)
+    for i in water_made:
+        by_package[rows[i].package] += 1
     print(f"{len(water_made)} links have a CAD mass of 1000 kg/m3 times one of their "
-          f"geometries' volume (within {WATER_MATCH:.0%}): made from geometry, not CAD; "
-          f"without them the pooled link errors are water "
+          f"geometries' volume (within {WATER_MATCH:.0%}): made from geometry, not CAD ("
+          + ", ".join(f"{g} {n}" for g, n in sorted(by_package.items(), key=lambda kv: -kv[1]))
+          + f"); without them the pooled link errors are water "
           f"{_pct([_rel(rows[i].water, rows[i].mass) for i in rest]).strip()}, prior "
           f"{_pct([_rel(pred[i], rows[i].mass) for i in rest]).strip()}")
     print("coefficients fitted on every package (log10 kg/m3 per unit of each term):")
     for k, v in sorted(m.coefficients.items(), key=lambda kv: -abs(kv[1])):
         print(f"  {k:22s} {v:+.3f}")
+    _mass_limits(corpus, unique, robots, m.ridge)
     link_err = [_rel(pred[i], rows[i].mass) for i in unique]
     summary = {
         "link_error_median": float(np.median(link_err)),  # type: ignore[arg-type]
@@ -194,6 +199,27 @@ def _mass(corpus: Corpus, unique: list[int], robots: list[list[int]]) -> dict[st
         "robot_coverage": float(np.mean(robot_inside))}
     return {"mass": m, "level": level, "band": band, "robot_level": robot_level,
             "robot_band": robot_band, "summary": summary}
+
+
+def _mass_limits(corpus: Corpus, unique: list[int], robots: list[list[int]],
+                 ridge: float) -> None:
+    """What the model family reaches when it is not held out: fitted on every link it is
+    judged on, then with a term per package (the package's own style known)."""
+    rows = corpus.rows
+    y = np.array([r.y for r in rows])
+    idx = np.array(unique)
+    weights = fit.package_weights([rows[i].package for i in unique])
+    for name, extra in (("fitted on the links judged (in sample)", False),
+                        ("in sample, with a term per package", True)):
+        terms = [dict(r.terms, **({f"package:{r.package}": 1.0} if extra else {}))
+                 for r in rows]
+        coefficients = fit.fit_ridge([terms[i] for i in idx], y[idx], weights, ridge)
+        pred = 10.0 ** fit.predict(terms, coefficients) * np.array(
+            [r.features.volume for r in rows])
+        link = np.median([abs(pred[i] - rows[i].mass) / rows[i].mass for i in unique])
+        robot = np.median([abs(sum(pred[i] for i in g) - sum(rows[i].mass for i in g))
+                           / sum(rows[i].mass for i in g) for g in robots])
+        print(f"limit, {name}: median link error {link:.1%}, robot total {robot:.1%}")
 
 
 def _robot_inside(tried: dict[str, np.ndarray], groups: list[str]) -> list[bool]:
@@ -256,6 +282,7 @@ def _tensor(corpus: Corpus, unique: list[int]) -> dict[str, Any]:
             by[getattr(t.features, attr)].append(i)
         for k, idx in sorted(by.items()):
             print(line(f"  {k}", idx))
+    _tensor_limits(trows, errors[:, 0])
     print("models fitted on every package per cell: median error on the cell's links "
           "against the homogeneous body's, in sample and held out (each link under the "
           "model its fold chose); a model is kept only where it also won held out:")
@@ -274,6 +301,21 @@ def _tensor(corpus: Corpus, unique: list[int]) -> dict[str, Any]:
                "coverage": float(np.mean(inside))}
     return {"grid": grid, "cells": cells, "tensor_level": level, "tensor_bands": bands,
             "summary": summary}
+
+
+def _tensor_limits(trows: list[TensorRow], homogeneous: np.ndarray) -> None:
+    """How much of the homogeneous body's error is its scale: each link's tensor scaled by
+    its own best factor (knowing CAD), and how that factor spreads per kind of link."""
+    k = np.array([float(np.sum(t.mass * t.per_kg * t.cad) / np.sum((t.mass * t.per_kg) ** 2))
+                  for t in trows])
+    scaled = [float(np.linalg.norm(f * t.mass * t.per_kg - t.cad) / np.linalg.norm(t.cad))
+              for f, t in zip(k, trows, strict=True)]
+    print(f"limit: the homogeneous body scaled by each link's own best factor (knowing CAD) "
+          f"{np.median(scaled):.1%} (unscaled {np.median(homogeneous):.1%}); the factor's "
+          f"p10, median, p90: {np.percentile(k, 10):.2f}, {np.median(k):.2f}, "
+          f"{np.percentile(k, 90):.2f}; median per part: " + ", ".join(
+              f"{p} {np.median(k[[t.features.part == p for t in trows]]):.2f}"
+              for p in sorted({t.features.part for t in trows})))
 
 
 def _describe(cell: dict[str, Any]) -> str:
