@@ -73,6 +73,54 @@ def test_robot_kind_from_structure_and_names(model, kind):
     assert why
 
 
+def test_a_hand_of_numbered_links_is_a_hand():
+    # allegro-like: four branches of four joints from the palm, links named by number
+    rows = [(f"joint_{f}.{k}", "revolute", "palm" if k == 0 else f"link_{f}.{k - 1}",
+             f"link_{f}.{k}") for f in range(4) for k in range(4)]
+    model = robot("allegro", rows)
+    model = Robot("allegro", model.links, tuple(
+        Joint(j.name, j.type, j.parent, j.child, Origin((0.0, 0.0, 0.04)))
+        for j in model.joints))
+    assert robot_kind(model)[0] == "hand"
+    # the same branches on a robot a metre across are not a hand
+    far = Robot("big", model.links, tuple(
+        Joint(j.name, j.type, j.parent, j.child, Origin((0.0, 0.0, 0.3)))
+        for j in model.joints))
+    assert robot_kind(far)[0] == "cobot"
+
+
+def test_legs_are_counted_once_through_loops_and_unnamed_links():
+    # a biped whose shin hangs below an unnamed rod: still one leg a side
+    rows = []
+    for side in ("left", "right"):
+        rows += [(f"{side}_hip", "revolute", "pelvis", f"{side}-hip-roll"),
+                 (f"{side}_rod", "revolute", f"{side}-hip-roll", f"{side}-achilles-rod"),
+                 (f"{side}_knee", "revolute", f"{side}-achilles-rod", f"{side}-knee"),
+                 (f"{side}_toe", "revolute", f"{side}-knee", f"{side}-toe")]
+    kind, why = robot_kind(robot("cassie", rows))
+    assert (kind, why) == ("humanoid", "2 legs with arms, a torso or a head")
+
+
+def test_rotors_on_the_base_make_an_aerial_robot_but_motor_rotors_do_not():
+    iris = robot("iris", [(f"rotor_{i}_joint", "continuous", "base_link", f"rotor_{i}")
+                          for i in range(4)])
+    assert robot_kind(iris)[0] == "aerial"
+    motors = robot("wheeled", [(f"{s}_stator", "fixed", "torso", f"{s}_stator")
+                               for s in ("l", "r", "f")]
+                   + [(f"{s}_spin", "continuous", f"{s}_stator", f"{s}_rotor")
+                      for s in ("l", "r", "f")])
+    assert robot_kind(motors)[0] != "aerial"
+
+
+def test_an_arm_with_a_hand_is_an_arm():
+    model = arm("tiago", 7)
+    rows = [(f"hand_{f}_j{k}", "revolute", "link_7" if k == 0 else f"hand_{f}_finger_{k}",
+             f"hand_{f}_finger_{k + 1}") for f in ("index", "middle", "thumb") for k in range(3)]
+    extra = robot("h", rows)
+    model = Robot("tiago", model.links + extra.links[1:], model.joints + extra.joints)
+    assert robot_kind(model)[0] == "cobot"
+
+
 def test_a_gripper_on_an_arm_is_an_arm():
     model = arm("ur5e")
     model = Robot("ur5e", model.links + (Link("gripper_finger"),),

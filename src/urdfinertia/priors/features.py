@@ -6,20 +6,20 @@ computed once per robot, :func:`link_features` once per link.
 
 How the robot's kind is inferred (:func:`robot_kind`), first rule that holds:
 
-1. words in the robot's, links' and joints' names: a propeller or rotor craft is "aerial";
-   a thruster or hull is "marine";
+1. propellers, rotor-craft words (quadrotor, drone, flying...) or three rotors on the root
+   link make it "aerial"; a thruster or hull "marine";
 2. legs (the first links of chains named hip, thigh, knee, calf, shin, ankle, foot,
-   leg...):
-   with arms or a torso or head as well, "humanoid"; else four or more legs,
-   "quadruped"; otherwise legs make a "humanoid" (a biped) too;
-3. fingers (finger, thumb, palm, knuckle, phalanx...) on at least five moving joints and
-   half of them: "hand"; a gripper's words (gripper, jaw, claw) or fingers on a robot
-   without a serial chain of four or more revolute joints: "gripper";
+   leg...): fewer than four with arms, a torso or a head, "humanoid"; four or more,
+   "quadruped"; otherwise a "humanoid" (a biped) too;
+3. without a serial chain of four or more revolute joints (fingers' joints not counted):
+   fingers (finger, thumb, palm, knuckle, phalanx...) on at least five moving joints and
+   half of them, or three branches of two revolute joints or more from one link on a
+   robot within :data:`HAND_SIZE`, make a "hand"; a gripper's words (gripper, jaw, claw)
+   or fingers a "gripper";
 4. wheels on a robot without a serial chain of four or more revolute joints:
    "mobile base";
-5. a serial chain of four or more revolute joints: an "industrial arm" when a maker's
-   industrial series is named (KUKA KR, ABB IRB, Fanuc, Yaskawa Motoman, Staubli...),
-   else a "cobot";
+5. such a chain: an "industrial arm" when a maker's industrial series is named (KUKA KR,
+   ABB IRB, Fanuc, Yaskawa Motoman, Staubli...), else a "cobot";
 6. otherwise "other".
 """
 
@@ -36,14 +36,16 @@ from urdfinertia.descriptions.model import Joint, Robot
 #: The kinds of robot, as the data file and the docs name them.
 ROBOT_KINDS = ("industrial arm", "cobot", "humanoid", "quadruped", "hand", "gripper",
                "mobile base", "aerial", "marine", "other")
+#: m: a robot of three or more jointed branches from one link within this size is a hand
+HAND_SIZE = 0.4
 #: The kinds of link (where on the robot the part is).
 PART_KINDS = ("base", "arm", "leg", "finger", "wheel", "head", "torso", "end", "other")
 #: Material hints in a link's name: words for dense and for light parts.
 MATERIAL_HINTS = ("dense", "light")
 
 _WORDS: dict[str, tuple[str, ...]] = {
-    "aerial": ("propeller", "quadrotor", "quadcopter", "multirotor", "drone", "uav",
-               "rotor_arm"),
+    "aerial": ("propeller", "quadrotor", "quadcopter", "hexacopter", "octocopter",
+               "multirotor", "drone", "uav", "flying"),
     "marine": ("thruster", "hull", "rov", "auv", "boat", "vessel", "ship", "buoy"),
     "leg": ("hip", "thigh", "knee", "calf", "shin", "ankle", "foot", "feet", "leg", "tibia",
             "femur", "toe", "haa", "hfe", "kfe", "shank"),
@@ -148,8 +150,9 @@ def _children(robot: Robot) -> dict[str, list[Joint]]:
     return out
 
 
-def _chain_revolute(robot: Robot, children: dict[str, list[Joint]], roots: list[str]) -> int:
-    """The most revolute joints on one path from a root (an arm's serial chain)."""
+def _chain_revolute(children: dict[str, list[Joint]], roots: list[str]) -> int:
+    """The most revolute joints on one path from a root, fingers' joints not counted (an
+    arm's serial chain; a hand's fingers are not one)."""
     best = 0
     queue = deque((r, 0) for r in roots)
     seen: set[str] = set()
@@ -160,8 +163,28 @@ def _chain_revolute(robot: Robot, children: dict[str, list[Joint]], roots: list[
         seen.add(name)
         best = max(best, n)
         for j in children.get(name, ()):
-            queue.append((j.child, n + (j.type in ("revolute", "continuous"))))
+            arm = j.type in ("revolute", "continuous") and not (
+                _has(j.name, "finger") or _has(j.child, "finger"))
+            queue.append((j.child, n + arm))
     return best
+
+
+def _fingers_from_one_link(children: dict[str, list[Joint]]) -> int:
+    """The most branches of two or more revolute joints each that leave one link."""
+    best = 0
+    for joints in children.values():
+        n = sum(_chain_revolute(children, [j.child]) + (j.type in ("revolute", "continuous"))
+                >= 2 for j in joints)
+        best = max(best, n)
+    return best
+
+
+def _extent(robot: Robot) -> float:
+    """The largest distance of a link frame from the root at the zero configuration, m."""
+    from urdfinertia.descriptions.kinematics import zero_configuration_poses
+
+    poses, _ = zero_configuration_poses(robot)
+    return max((float(np.linalg.norm(p[:3, 3])) for p in poses.values()), default=0.0)
 
 
 def robot_kind(robot: Robot) -> tuple[str, str]:
@@ -173,9 +196,11 @@ def robot_kind(robot: Robot) -> tuple[str, str]:
     has_parent = {j.child for j in robot.joints}
     roots = [lk.name for lk in robot.links if lk.name not in has_parent] or \
         [lk.name for lk in robot.links[:1]]
-    chain = _chain_revolute(robot, children, roots)
-    if count["aerial"]:
-        return "aerial", "propeller or rotor-craft words in the names"
+    chain = _chain_revolute(children, roots)
+    rotors = sum(1 for r in roots for j in children.get(r, ())
+                 if words(j.child) & {"rotor", "prop", "propeller"})
+    if count["aerial"] or rotors >= 3:
+        return "aerial", "propellers, rotors on the base or rotor-craft words"
     if count["marine"]:
         return "marine", "thruster or hull words in the names"
     legs = _legs(robot)
@@ -186,8 +211,11 @@ def robot_kind(robot: Robot) -> tuple[str, str]:
     if legs:
         return "humanoid", f"{legs} legs"
     fingers = sum(_has(j.name, "finger") or _has(j.child, "finger") for j in moving)
-    if moving and fingers >= max(5, len(moving) / 2):
-        return "hand", f"fingers on {fingers} of {len(moving)} moving joints"
+    if chain < 4 and moving and fingers >= max(5, len(moving) / 2):
+        return "hand", f"fingers on {fingers} of {len(moving)} moving joints, and no arm"
+    branches = _fingers_from_one_link(children)
+    if branches >= 3 and _extent(robot) < HAND_SIZE:
+        return "hand", f"{branches} jointed branches from one link, within {HAND_SIZE} m"
     if chain < 4 and (count["gripper"] or fingers):
         return "gripper", "gripper words or fingers, and no arm"
     if count["wheel"] and chain < 4:
@@ -201,16 +229,23 @@ def robot_kind(robot: Robot) -> tuple[str, str]:
 
 
 def _legs(robot: Robot) -> int:
-    """How many legs: links named as a leg whose parent is not (each leg's first link)."""
-    parent = {j.child: j.parent for j in robot.joints}
-    return sum(1 for lk in robot.links if _has(lk.name, "leg")
-               and not (lk.name in parent and _has(parent[lk.name], "leg")))
+    """How many legs: links named as a leg with no leg-named link above them (each leg's
+    first link; a leg's loops and unnamed links in between do not make new legs)."""
+    parent = {j.child: j.parent for j in robot.joints if j.child != j.parent}
+    n = 0
+    for lk in robot.links:
+        if not _has(lk.name, "leg"):
+            continue
+        up, seen = parent.get(lk.name), {lk.name}
+        while up is not None and up not in seen and not _has(up, "leg"):
+            seen.add(up)
+            up = parent.get(up)
+        n += up is None or up in seen
+    return n
 
 
 def robot_features(robot: Robot) -> RobotFeatures:
     """The robot-level features (computed once per robot)."""
-    from urdfinertia.descriptions.kinematics import zero_configuration_poses
-
     kind, why = robot_kind(robot)
     children = _children(robot)
     has_parent = {j.child for j in robot.joints if j.child in children and j.parent in children}
@@ -237,9 +272,8 @@ def robot_features(robot: Robot) -> RobotFeatures:
         for end in (j.parent, j.child):
             if end in joints:
                 joints[end] += 1
-    poses, _ = zero_configuration_poses(robot)
-    extent = max((float(np.linalg.norm(p[:3, 3])) for p in poses.values()), default=0.0)
-    return RobotFeatures(kind, why, depth, below, joints, extent, max(depth.values(), default=0))
+    return RobotFeatures(kind, why, depth, below, joints, _extent(robot),
+                         max(depth.values(), default=0))
 
 
 def _subtree(name: str, children: dict[str, list[Joint]]) -> int:
