@@ -37,7 +37,8 @@ from pathlib import Path
 from bench_cad import _file_name, _time_limit, package_dirs, packages
 from priors_check import check_files
 from priors_corpus import measure_file
-from priors_report import report, write_fixture, write_table
+from priors_report import report
+from priors_write import write_fixture, write_table
 
 from urdfinertia.cache.library import mesh_library
 from urdfinertia.errors import UrdfInertiaError
