@@ -179,14 +179,27 @@ def _err(got: np.ndarray, cad: np.ndarray) -> float:
     return float(np.linalg.norm(got - cad) / np.linalg.norm(cad))
 
 
+def plausible_links(robot: Robot, meshes: MeshLibrary) -> list[Link]:
+    """The robot's CAD samples: links whose inertial ``check`` finds plausible (no error or
+    warning), with geometry, a positive mass, and writable."""
+    findings = check_robot(robot, meshes=meshes)
+    flagged = {f.link for f in findings if f.severity in ("error", "warning")}
+    return [lk for lk in robot.links if lk.inertial is not None and lk.name not in flagged
+            and (lk.collisions or lk.visuals) and lk.inertial.mass > 0
+            and lk.read_only is None]
+
+
+def link_key(raw: RawInertial) -> tuple[str, ...]:
+    """What de-duplicates links across robots and mirrored twins: the mass and principal
+    moments to 6 digits."""
+    moments = np.linalg.eigvalsh(raw.inertia)
+    return (f"{raw.mass:.6g}", *(f"{m:.6g}" for m in moments))
+
+
 def run_file(package: str, path: Path, seen: set, meshes: MeshLibrary,
              ) -> tuple[list[Sample], int, int]:
     robot, data = read_description(path)
-    findings = check_robot(robot, meshes=meshes)
-    flagged = {f.link for f in findings if f.severity in ("error", "warning")}
-    plausible = [lk for lk in robot.links if lk.inertial is not None and lk.name not in flagged
-                 and (lk.collisions or lk.visuals) and lk.inertial.mass > 0
-                 and lk.read_only is None]
+    plausible = plausible_links(robot, meshes)
     # 1. CAD values in place: the default fix must keep every plausible link
     result = fix_robot(robot, data, FixOptions(), meshes)
     names = {lk.name for lk in plausible}
@@ -195,8 +208,7 @@ def run_file(package: str, path: Path, seen: set, meshes: MeshLibrary,
     withheld = {}
     for lk in plausible:
         raw = RawInertial.from_inertial(lk.inertial)
-        moments = np.linalg.eigvalsh(raw.inertia)
-        key = (f"{raw.mass:.6g}", *(f"{m:.6g}" for m in moments))
+        key = link_key(raw)
         if key in seen:
             continue
         seen.add(key)
