@@ -11,13 +11,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from urdfinertia.body import geometry_choice
+from urdfinertia.body.bounds import BoundsCache, link_bounds
 from urdfinertia.cache.library import MeshLibrary, mesh_library
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.kinematics import Kinematics
 from urdfinertia.descriptions.model import Link
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.body import geometry_choice
-from urdfinertia.body.bounds import BoundsCache, link_bounds
 from urdfinertia.priors.features import (
     LinkFeatures,
     RobotFeatures,

@@ -26,17 +26,17 @@ from typing import Any
 import numpy as np
 from bench_cad import _err, _file_name, _mujoco_tensors, link_key, plausible_links
 
+from urdfinertia.body import geometry_choice
+from urdfinertia.body.assemble import assemble
+from urdfinertia.body.bounds import BoundsCache, link_bounds
+from urdfinertia.body.mass import MassSource
+from urdfinertia.body.options import FixOptions
 from urdfinertia.cache.library import MeshLibrary
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.model import Link, Robot
 from urdfinertia.errors import UrdfInertiaError
-from urdfinertia.body import geometry_choice
-from urdfinertia.body.assemble import assemble
-from urdfinertia.body.bounds import BoundsCache, link_bounds
 from urdfinertia.plan.fix import fix_robot
-from urdfinertia.body.mass import MassSource
-from urdfinertia.body.options import FixOptions
 
 #: kg/m^3: what ``fix`` integrates a link with no inertial at (``FixOptions().density``).
 WATER = FixOptions().density

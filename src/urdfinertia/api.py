@@ -108,6 +108,8 @@ def make_options(**options: Any) -> FixOptions:
     if links:
         options["links"] = tuple(links)
         options.setdefault("recompute", "links")
+    if "density" in options:  # a density asked for is a constant one, as --density
+        options.setdefault("density_prior", False)
     return FixOptions(**options)
 
 

@@ -211,6 +211,7 @@ class Rule(StrEnum):
     TOTAL_MASS_MISMATCH = "total-mass-mismatch"
     MASS_DISTRIBUTION = "mass-distribution"
     JOINT_MAY_NOT_HOLD = "joint-may-not-hold"
+    MASS_PRIOR = "mass-prior"
     TOTAL_MASS_CHANGED = "total-mass-changed"
     MASS_TARGET_MET = "mass-target-met"
     # UI8xx: what fix did and why
@@ -801,6 +802,15 @@ _TABLE: dict[Rule, RuleInfo] = {
         "inside it, so whether the joint holds depends on values `fix` could only estimate.",
         "joint 'knee' must hold up to 41 N m: its effort limit 38 N m holds it only at the "
         "band's low end", "give the links their CAD masses; `check --no-statics`"),
+    R.MASS_PRIOR: RuleInfo(
+        "UI708", I_, Scope.ROBOT, FixAction.NONE,
+        "links with no mass got the mass prior's: the robot's total with its band",
+        "A link with no usable mass is given the effective density the mass prior predicts "
+        "for it (the robot's kind, the part's size and place in the chain: "
+        "docs/priors.md), with a calibrated band; the robot's total is stated beside what "
+        "1000 kg/m³ gives, with the band robots' totals held to.",
+        "6 links with no mass: 17.7 kg at 1000 kg/m³; the prior gives 21.2 kg (10.9-40.1, "
+        "78 %)", "`--density KG_PER_M3` for a constant density; `--total-mass KG`"),
     R.MASS_DISTRIBUTION: RuleInfo(
         "UI704", E, Scope.INERTIAL, FixAction.CORRECT,
         "a link heavier than the rest of the robot, or ten times its mirror twin",

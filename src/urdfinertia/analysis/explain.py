@@ -236,6 +236,8 @@ def breakdown_dict(b: Breakdown) -> dict[str, Any]:
                       "parts": [contribution_dict(p) for p in e.parts]} for e in b.elements],
         "findings": [finding_dict(f) for f in b.findings],
         "decision": b.decision,
+        "error_bar": (b.verdict.error_bar.as_dict() if b.verdict is not None
+                      and b.verdict.error_bar is not None else None),
         "geometry_choice": b.choice.as_dict() if b.choice is not None else None,
         "geometry_total": None if b.geometry_total is None else {
             "mass": b.geometry_total.mass, "com": b.geometry_total.com.tolist(),

@@ -79,6 +79,37 @@ BAND_LEVEL = 0.80
 
 
 @dataclass(frozen=True)
+class MassBand:
+    """The calibrated band of a mass the prior derived (`urdfinertia.priors`).
+
+    Attributes
+    ----------
+    low, high : float
+        kg: `level` of the measured CAD links had their mass inside the band.
+    level : float
+        The share of measured links the band held for.
+    density : float
+        The effective density the prior predicted, kg/m^3.
+    water : float
+        The same geometry at 1000 kg/m^3, kg (what a constant density gives).
+    """
+
+    low: float
+    high: float
+    level: float
+    density: float
+    water: float
+
+    def __str__(self) -> str:
+        return (f"mass {self.low:.3g}-{self.high:.3g} kg ({100 * self.level:.0f} %: the "
+                f"mass prior's {self.density:.0f} kg/m³; {self.water:.3g} kg at 1000)")
+
+    def as_dict(self) -> dict[str, object]:
+        return {"low": self.low, "high": self.high, "level": self.level,
+                "density": self.density, "at_1000": self.water}
+
+
+@dataclass(frozen=True)
 class ErrorBar:
     """Expected relative error of a derived tensor against CAD (Frobenius, about the CoM).
 
@@ -97,6 +128,8 @@ class ErrorBar:
         when not known).
     density : float or None
         The kept mass over the geometry's volume, kg/m^3; None when no mass is kept.
+    mass : MassBand or None
+        The band of a mass the prior derived (None: the mass was kept or given).
     """
 
     band: float
@@ -104,6 +137,7 @@ class ErrorBar:
     offset: float | None = None
     kind: str | None = None
     density: float | None = None
+    mass: MassBand | None = None
 
     def __str__(self) -> str:
         from urdfinertia.body.geometry_choice import KIND_WORDS
@@ -117,11 +151,13 @@ class ErrorBar:
                 "kept CoM"
         else:
             why = "homogeneous model, CoM not known"
-        return f"tensor within ±{100 * self.band:.0f} % of CAD ({100 * BAND_LEVEL:.0f} %: {why})"
+        text = f"tensor within ±{100 * self.band:.0f} % of CAD ({100 * BAND_LEVEL:.0f} %: {why})"
+        return text if self.mass is None else f"{text}; {self.mass}"
 
     def as_dict(self) -> dict[str, object]:
         return {"band": self.band, "level": BAND_LEVEL, "basis": self.basis,
-                "offset": self.offset, "kind": self.kind, "density": self.density}
+                "offset": self.offset, "kind": self.kind, "density": self.density,
+                "mass": None if self.mass is None else self.mass.as_dict()}
 
 
 def offset_bin(offset: float) -> int:

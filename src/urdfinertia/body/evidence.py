@@ -35,6 +35,7 @@ from urdfinertia.rules import Rule
 if TYPE_CHECKING:
     from urdfinertia.cache.library import MeshLibrary
     from urdfinertia.descriptions.model import Link, Robot
+    from urdfinertia.priors.features import RobotFeatures
 
 #: A link's geometry box in the link frame: (lo, hi) corners, m.
 Bounds = tuple[np.ndarray, np.ndarray]
@@ -175,6 +176,14 @@ class RobotEvidence:
     @cached_property
     def bounds_cache(self) -> BoundsCache:
         return BoundsCache(self.meshes)
+
+    @cached_property
+    def prior_features(self) -> RobotFeatures:
+        """What the mass prior knows of the robot ([`urdfinertia.priors`][urdfinertia.priors]:
+        its kind, chain depths, joints)."""
+        from urdfinertia.priors.features import robot_features
+
+        return robot_features(self.robot)
 
     @cached_property
     def links(self) -> dict[str, LinkEvidence]:

@@ -44,6 +44,11 @@ class FixOptions:
         "density" (mass = density x volume).
     density : float
         kg/m^3 used when a link has no mass or with `mass="density"`.
+    density_prior : bool
+        A link with no usable mass gets the density the mass prior predicts for it
+        ([`urdfinertia.priors`][urdfinertia.priors]: the robot's kind, the part's size and
+        place, with a calibrated band) instead of `density`. False when a density is
+        given (`--density`, `density=`): a constant density, as asked.
     package_dirs : mapping of str to Path
         Where `package://NAME/` points (`--package-dir NAME=PATH`).
     max_faces : int
@@ -77,6 +82,7 @@ class FixOptions:
     geometry: str = "auto"
     mass: str = "keep"
     density: float = 1000.0
+    density_prior: bool = True
     package_dirs: Mapping[str, Path] = field(default_factory=dict)
     max_faces: int = DEFAULT_MAX_FACES
     spec: Spec | None = None  # a decomposition spec, when given

@@ -47,6 +47,9 @@ def run(args: argparse.Namespace) -> int:
     console.print(breakdown_table(breakdown))
     if breakdown.decision:
         console.print(f"fix: {breakdown.decision}", markup=False, highlight=False)
+    verdict = breakdown.verdict
+    if verdict is not None and verdict.error_bar is not None and verdict.changed:
+        console.print(f"error bar: {verdict.error_bar}", markup=False, highlight=False)
     from urdfinertia.rules import Severity
 
     for f in breakdown.findings:

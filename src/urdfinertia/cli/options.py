@@ -87,9 +87,10 @@ def add_common_geometry_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mass", choices=MASS_MODES, default="keep",
                    help="keep: keep a link's existing positive mass and take CoM and tensor "
                         "from the geometry; density: mass = density x volume (default: keep)")
-    p.add_argument("--density", type=density_value, default=1000.0, metavar="KG_PER_M3",
-                   help="density for links without mass or with --mass density "
-                        "(kg/m^3, default 1000)")
+    p.add_argument("--density", type=density_value, default=None, metavar="KG_PER_M3",
+                   help="a constant density for links without mass or with --mass density "
+                        "(kg/m^3; default: the mass prior's for each link without mass, "
+                        "1000 with --mass density)")
     p.add_argument("--spec", type=user_path, metavar="TOML",
                    help="decomposition spec: parts with known mass, density or material")
 
@@ -123,7 +124,8 @@ def options_from_args(args: argparse.Namespace) -> FixOptions:
     return FixOptions(
         geometry=args.geometry,
         mass=args.mass,
-        density=args.density,
+        density=1000.0 if args.density is None else args.density,
+        density_prior=args.density is None,
         package_dirs=dict(args.package_dir),
         max_faces=args.max_faces,
         spec=spec,
@@ -196,7 +198,7 @@ PYTHON_EQUIVALENTS: dict[str, str] = {
     "--xacro-arg": '`xacro_args={"NAME": "VALUE"}`',
     "--max-faces": "`max_faces=N`",
     "--mass": '`mass="keep"` or `"density"`',
-    "--density": "`density=KG_PER_M3`",
+    "--density": "`density=KG_PER_M3` (a constant density: no mass prior)",
     "--spec": '`spec="robot.inertia.toml"` (a path, or a spec from `load_spec`)',
     # which links fix recomputes
     "--all": '`recompute="all"`',

@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from urdfinertia.body.assemble import Assembly
-from urdfinertia.body.errorbar import tensor_error_bar
+from urdfinertia.body.errorbar import MassBand, tensor_error_bar
 from urdfinertia.body.evidence import LinkEvidence
 from urdfinertia.body.options import PLAUSIBLE_DENSITY
 from urdfinertia.findings import Finding
@@ -69,6 +69,11 @@ def execute(ev: LinkEvidence, j: LinkJudgement, plan: LinkPlan) -> LinkResult:
         error_bar = tensor_error_bar(offset, diagonal, *((choice.kind, choice.role,
                                                           choice.density)
                                                          if choice is not None else ()))
+        prior = plan.prior
+        if prior is not None and error_bar is not None:
+            error_bar = replace(error_bar, mass=MassBand(
+                prior.low, prior.high, prior.level, prior.density,
+                prior.mass / prior.density * 1000.0))
     return replace(base, status=Status.RECOMPUTED, geometry=plan.role, assembly=assembly,
                    findings=findings + derived_notes(ev, assembly), kept=kept,
                    derived=tuple(v for v in VALUES if v not in kept), error_bar=error_bar,

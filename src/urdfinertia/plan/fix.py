@@ -29,9 +29,12 @@ from urdfinertia.plan.total_mass import TargetOutcome, mass_change_finding, meet
 from urdfinertia.rules import Rule
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
     from urdfinertia.cache.library import MeshLibrary
     from urdfinertia.descriptions.model import Robot
     from urdfinertia.judge.robot import Judgement
+    from urdfinertia.plan.policy import LinkPlan
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +75,32 @@ def verdicts(robot: Robot, options: FixOptions, meshes: MeshLibrary | None = Non
     change = mass_change_finding(results)
     if change is not None and not targets:
         said.append(change)
+    prior = prior_total_finding(results, plans)
+    if prior is not None:
+        said.append(prior)
     return Verdicts(results, targets, tuple(said), judgement)
+
+
+def prior_total_finding(results: tuple[LinkResult, ...], plans: Mapping[str, LinkPlan],
+                        ) -> Finding | None:
+    """The robot's total with the links the mass prior gave a mass, and its band (None:
+    the prior gave none, or a target mass replaced what it gave)."""
+    from urdfinertia.priors.model import robot_total
+
+    priors = [plan.prior for r in results if (plan := plans[r.name]).prior is not None
+              and r.error_bar is not None and r.error_bar.mass is not None]
+    if not priors:
+        return None
+    total = robot_total(priors)
+    given = {r.name for r in results if r.error_bar is not None and r.error_bar.mass}
+    rest = sum(after.mass for r in results if r.name not in given
+               and (after := r.after) is not None)
+    text = f"{len(priors)} link(s) with no mass: {total.describe()}"
+    if rest > 0:
+        text += (f"; the robot with its other masses: {rest + total.water:.3g} kg at "
+                 f"1000 kg/m³, {rest + total.mass:.3g} kg with the prior "
+                 f"({rest + total.low:.3g}-{rest + total.high:.3g})")
+    return Finding(Rule.MASS_PRIOR, None, text)
 
 
 def link_verdicts(robot: Robot, options: FixOptions,

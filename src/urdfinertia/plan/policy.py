@@ -13,7 +13,9 @@ inequality, a zero tensor with a mass) are always changed: by undoing a slip, el
 deriving from the geometry, else by the minimal repair. A placeholder, a missing inertial
 on a moving link, or values the body's geometry contradicts are derived from the geometry
 that best represents the body (:mod:`urdfinertia.body.geometry_choice`), keeping a
-plausible mass and a CoM inside the geometry. Geometry that is not the body (the
+plausible mass and a CoM inside the geometry; a link with no usable mass gets the mass
+prior's density for it (:mod:`urdfinertia.priors`, with its band) unless a density is
+given. Geometry that is not the body (the
 judgement's ``not_body``) gives no evidence: a valid value is kept, said so. Massless
 frames stay massless. ``recompute="all"`` (``--all``) and ``"links"`` (``--links``) derive
 every link (or those named) with geometry, and still give an invalid value the minimal
@@ -39,6 +41,7 @@ from urdfinertia.judge.robot import Judgement, LinkJudgement
 from urdfinertia.judge.slips import SLIP_TRIGGERS, SlipProposal
 from urdfinertia.judge.values import reaches_too_far
 from urdfinertia.plan.results import Action
+from urdfinertia.priors.model import MassPrior
 from urdfinertia.rules import Rule
 
 #: Findings that make ``fix`` change a link by default.
@@ -106,6 +109,9 @@ class LinkPlan:
         Left although it should have changed (``fix`` exits 1).
     slip : SlipProposal or None
         For "correct": the edit undone.
+    prior : MassPrior or None
+        For "recompute" of a link with no usable mass: the mass prior its mass came from,
+        with the band.
     notes : tuple of Finding
         What planning found out carrying on (the minimal body given, elements dropped).
     """
@@ -121,6 +127,7 @@ class LinkPlan:
     role: str = "as written"
     unresolved: bool = False
     slip: SlipProposal | None = None
+    prior: MassPrior | None = None
     notes: tuple[Finding, ...] = ()
 
 
@@ -288,6 +295,12 @@ def _recompute(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...], *,
         return LinkPlan(ev.name, Action.LEAVE, grounds, Rule.NO_GEOMETRY,
                         unresolved=bool(dropped) or bool(grounds), notes=notes)
     best, chosen = choose(candidates, kept_mass, com)
+    prior = None
+    if mass is None and source.kind == "density" and options.density_prior \
+            and options.mass == "keep":
+        prior = _mass_prior(ev, best, candidates)
+        if prior is not None:
+            source = MassSource("density", prior.density)
     lo, hi = PLAUSIBLE_DENSITY
     if plausible_only and chosen.density is not None and not lo <= chosen.density <= hi:
         return LinkPlan(ev.name, Action.LEAVE, grounds, Rule.GEOMETRY_NOT_BODY,
@@ -305,7 +318,28 @@ def _recompute(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...], *,
     if com is not None and "mass" in keep:
         keep |= {"com"}
     return LinkPlan(ev.name, Action.RECOMPUTE, grounds, because, keep, assembly, best,
-                    chosen, best.role, notes=tuple(best.dropped))
+                    chosen, best.role, prior=prior, notes=tuple(best.dropped))
+
+
+def _mass_prior(ev: LinkEvidence, best: Candidate, candidates: list[Candidate],
+                ) -> MassPrior | None:
+    """The mass prior of a link with no usable mass, over the geometry it is derived from
+    (None: the geometry has no volume to put a density in)."""
+    from urdfinertia.body.bounds import link_bounds
+    from urdfinertia.priors.features import link_features
+    from urdfinertia.priors.model import mass_prior
+
+    if not best.volume > 0:
+        return None
+    try:
+        box = link_bounds(best.refs, ev.robot.bounds_cache, ev.robot.urdf_dir)
+    except (UrdfInertiaError, ValueError):
+        box = None
+    features = link_features(ev.name, ev.robot.prior_features, volume=best.volume, box=box,
+                             geometry=best.kind, role=best.role,
+                             others=tuple(c.volume for c in candidates))
+    found = mass_prior(features)
+    return found if math.isfinite(found.density) and found.density > 0 else None
 
 
 def _dropped(ev: LinkEvidence) -> list[Finding]:

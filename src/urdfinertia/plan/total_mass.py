@@ -202,7 +202,9 @@ def _scaled(r: LinkResult, k: float) -> LinkResult:
         source = a.mass_source if value is None else MassSource(
             kind, total.mass if a.mass_source.total is not None else value * k)
         derived = {*r.derived, "mass", "tensor"}
-        return dataclasses.replace(r, assembly=Assembly(total, parts, source),
+        # a target mass wins over the prior: its band no longer describes the mass
+        bar = None if r.error_bar is None else dataclasses.replace(r.error_bar, mass=None)
+        return dataclasses.replace(r, assembly=Assembly(total, parts, source), error_bar=bar,
                                    kept=tuple(v for v in r.kept if v not in derived),
                                    derived=tuple(v for v in _VALUES if v in derived),
                                    findings=r.findings + (note,))

@@ -77,6 +77,9 @@ def print_mass_summary(result: FixResult, console: Console, quiet: bool = False)
         return
     style = "bold yellow" if warn else ""
     console.print(f"[{style}]warning: {change}[/]" if warn else change.text(), highlight=False)
+    for f in result.robot_findings:
+        if f.rule is Rule.MASS_PRIOR:
+            console.print(f.message, highlight=False, markup=False)
 
 
 def _worth_listing(r: LinkResult) -> bool:

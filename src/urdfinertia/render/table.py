@@ -50,7 +50,13 @@ def _notes(r: LinkResult) -> str:
     (elements dropped, meshes repaired ...); each note once. The error bar is its band only
     ("±79 %"): its basis is in ``--json`` and ``explain``."""
     full_bar = str(r.error_bar) if r.error_bar is not None else None
-    short_bar = f"±{100 * r.error_bar.band:.0f} %" if r.error_bar is not None else None
+    short_bar = None
+    if r.error_bar is not None:
+        short_bar = f"±{100 * r.error_bar.band:.0f} %"
+        band = r.error_bar.mass
+        if band is not None:  # a derived mass states its band where it is shown
+            short_bar += (f"; mass prior {band.low:.3g}-{band.high:.3g} kg "
+                          f"({100 * band.level:.0f} %)")
     decided = [short_bar if n == full_bar else n for n in link_notes(r, findings=False)]
     notes = (*decided, *collapse_notes([note_text(f) for f in verdict_notes(r)]))
     return "; ".join(dict.fromkeys(x for x in notes if x))
