@@ -17,6 +17,7 @@ from urdfinertia.descriptions.inertial import RawInertial
 from urdfinertia.descriptions.paths import resolve_mesh_path
 from urdfinertia.errors import MeshError, UrdfInertiaError
 from urdfinertia.plan.fix import fix_file
+from urdfinertia.plan.results import Status
 
 pytestmark = pytest.mark.corpus
 
@@ -37,7 +38,7 @@ def test_whole_collection(erd_dir, tmp_path):
     assert len(files) >= 60
     # the package is pinned so that the output, written elsewhere, resolves the same meshes
     meshes = MeshLibrary({"example-robot-data": erd_dir})
-    fixed, partial = 0, {}
+    fixed, partial, placeholders = 0, {}, {}
     for path in files:
         try:
             result = fix_file(path, FixOptions(), meshes)
@@ -58,6 +59,10 @@ def test_whole_collection(erd_dir, tmp_path):
                     resolve_mesh_path(ref.shape.filename, path.parent, meshes.package_dirs)
         if result.left:
             partial[path.stem] = len(result.left)
+        spheres = sum(r.status == Status.REPAIRED and "placeholder" in r.why
+                      for r in result.links)
+        if spheres:
+            placeholders[path.stem] = spheres
         assert_only_inertials_differ(path.read_bytes(), result.output)
         # idempotence: the output, fixed again, is byte-identical
         out = tmp_path / path.name
@@ -69,13 +74,17 @@ def test_whole_collection(erd_dir, tmp_path):
           f"as they were (meshes not shipped): {partial}")
     assert fixed == len(files)
     # romeo_laas_small's links whose meshes are not shipped are no longer left as they were:
-    # valid ones are kept (not verified), invalid ones get the minimal repair. Left, with
-    # exit 1: placeholders of real mass with nothing that is the body to derive them from
-    # (simple_humanoid: 1 kg m^2 on 0.4-2.5 kg links inside envelopes of 6.5 kg/m^3;
-    # tiago_dual: 10 kg with 1 kg m^2 and no geometry). Frame bodies under 0.1 % of the
-    # robot's mass (ANYmal C's 1 g hips) are left without failing the run.
-    assert partial == {"simple_humanoid": 30, "simple_humanoid_classical": 30,
-                       "tiago_dual": 2}
+    # valid ones are kept (not verified), invalid ones get the minimal repair. Placeholders
+    # of real mass with nothing that is the body to derive them from (simple_humanoid:
+    # 1 kg m^2 on 0.4-2.5 kg links inside envelopes of 6.5 kg/m^3; tiago_dual: 10 kg with
+    # 1 kg m^2 and no geometry) get a solid sphere of their mass, said so; frame bodies
+    # under 0.1 % of the robot's mass (ANYmal C's 1 g hips) are left as written.
+    assert partial == {}
+    assert {k: placeholders.get(k) for k in ("simple_humanoid", "simple_humanoid_classical",
+                                            "tiago_dual")} == {
+        # tiago_dual: the two 10 kg suspensions and 36 frames of 0.1-10 g (virtual finger
+        # links, camera frames) whose 1e-5-1e-3 kg m^2 put their mass beyond any link
+        "simple_humanoid": 30, "simple_humanoid_classical": 30, "tiago_dual": 38}
 
 
 # --- the default policy on real robots (issue 14) -------------------------------------

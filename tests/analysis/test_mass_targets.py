@@ -33,8 +33,11 @@ def test_written_total_against_the_target():
     text = found.message
     assert "weigh 2.1 kg as written, 2.5 kg (54.35%) under the target 4.6 kg" in text
     assert "fix derives the mass of 2 link(s) (upper, hand) and keeps 2" in text
-    assert "without the target fix would write 7.1 kg" in text
-    assert "fix with the target scales 2 link(s) x0.5" in text
+    # what a plain fix writes (its mass prior for the two links; 7.1 kg at 1000 kg/m^3)
+    plain = sum(r.after.mass for r in fix_file(ARM).links if r.after is not None)
+    assert 2.1 < plain < 7.1
+    assert f"without the target fix would write {plain:g} kg" in text
+    assert f"fix with the target scales 2 link(s) x{(4.6 - 2.1) / (plain - 2.1):g}" in text
     # the plan is fix's with the target: one answer
     fixed = fix_file(ARM, FixOptions(total_mass=4.6))
     assert {r.name: r.after.mass for r in result.links} == pytest.approx(

@@ -136,22 +136,28 @@ def test_visual_only_geoms_make_the_inertial_and_a_placeholder_is_never_left_sil
     expected = box(m1, (0.3, 0.06, 0.04)) + shift(m1, c1 - c) + \
         box(m2, (0.06, 0.06, 0.12)) + shift(m2, c2 - c)
     np.testing.assert_allclose(t.inertia, expected, rtol=1e-6, atol=1e-12)
-    # nothing at all to derive the tool from: left, listed, exit 1
-    assert tool.status == Status.LEFT and "placeholder-inertia" in (tool.reason or "")
-    assert [r.name for r in result.left] == ["tool"]
+    # nothing at all to derive the tool from, and a placeholder is no value to keep: the
+    # smallest honest body, a solid sphere of its 0.5 kg at 1000 kg/m^3, said so
+    assert tool.status == Status.REPAIRED and "placeholder-inertia" in tool.why
+    radius = (3 * 0.5 / (4 * np.pi * 1000.0)) ** (1 / 3)
+    np.testing.assert_allclose(tool.after.inertia, 0.4 * 0.5 * radius ** 2 * np.eye(3),
+                               rtol=1e-12)
+    assert any("solid sphere" in f.message for f in tool.findings)
+    assert result.left == ()
 
 
-def test_fix_cli_lists_the_placeholder_left_and_says_which_geometry(tmp_path, capsys):
+def test_fix_cli_says_the_placeholder_repair_and_which_geometry(tmp_path, capsys):
     out, js = tmp_path / "out.xml", tmp_path / "out.json"
     code = main(["fix", str(DATA / "visual_only.xml"), "-o", str(out), "--json", str(js)])
-    assert code == 1
+    assert code == 0
     doc = json.loads(js.read_text())
-    assert [x["link"] for x in doc["links_left"]] == ["tool"]
+    assert doc["links_left"] == []
     links = {x["link"]: x for x in doc["links"]}
     assert links["forearm"]["geometry_choice"]["role"] == "visual"
     assert links["forearm"]["error_bar"]["kind"] == "mesh"
-    err = capsys.readouterr().err
-    assert "link 'tool'" in err and "1 of 3 links left" in err
+    assert links["tool"]["status"] == "repaired"
+    assert any("a solid sphere of the mass" in f["message"]
+               for f in links["tool"]["findings"])
 
 
 def test_forced_geometry_is_used_as_asked():

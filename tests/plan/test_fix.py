@@ -16,6 +16,12 @@ from urdfinertia.plan.fix import fix_file
 DATA = Path(__file__).resolve().parents[1] / "data"
 
 
+def _all(**options) -> FixOptions:
+    """``--all`` at a constant 1000 kg/m^3 (``--density``): the closed forms' density (the
+    default's mass prior is tested in test_mass_prior.py)."""
+    return FixOptions(recompute="all", density_prior=False, **options)
+
+
 def write_urdf(folder: Path, body: str, name: str = "robot.urdf") -> Path:
     path = folder / name
     path.write_text(f'<?xml version="1.0"?>\n<robot name="r">\n{body}\n</robot>\n')
@@ -40,7 +46,7 @@ def test_geometry_origin_is_honoured(tmp_path):
     path = write_urdf(tmp_path, link("l", collision('<box size="0.1 0.2 0.3"/>',
                                                     " ".join(map(str, xyz)),
                                                     " ".join(map(str, rpy)))))
-    total = only(fix_file(path, FixOptions(recompute="all", density=500.0)), "l").assembly.total
+    total = only(fix_file(path, _all(density=500.0)), "l").assembly.total
     expected = primitives.box([0.1, 0.2, 0.3], 500.0).rotated(rpy_matrix(rpy)).translated(xyz)
     np.testing.assert_allclose(total.com, expected.com, atol=1e-15)
     np.testing.assert_allclose(total.inertia, expected.inertia, rtol=1e-12)
@@ -61,7 +67,7 @@ def test_rotated_shifted_mesh_equals_rotated_primitive(tmp_path):
                                                     " ".join(map(str, xyz)),
                                                     " ".join(map(str, rpy))))
                       + "\n" + link("b", collision('<mesh filename="moved.stl"/>')))
-    res = fix_file(path, FixOptions(recompute="all"))
+    res = fix_file(path, _all())
     a, b = only(res, "a").assembly.total, only(res, "b").assembly.total
     # STL stores single-precision vertices: agreement to ~1e-7, asserted at 1e-6
     assert a.mass == pytest.approx(b.mass, rel=1e-6)
@@ -74,12 +80,12 @@ def test_mass_keep_distributes_existing_mass(tmp_path):
                 '<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')
     geo = collision('<cylinder radius="0.05" length="0.4"/>', "0 0 0.2")
     path = write_urdf(tmp_path, link("l", inertial + "\n" + geo))
-    keep = only(fix_file(path, FixOptions(recompute="all")), "l").assembly.total
+    keep = only(fix_file(path, _all()), "l").assembly.total
     expected = primitives.cylinder(0.05, 0.4, 1.0).with_mass(7.5)
     assert keep.mass == 7.5
     np.testing.assert_allclose(keep.com, [0, 0, 0.2])
     np.testing.assert_allclose(keep.inertia, expected.inertia, rtol=1e-12)
-    options = FixOptions(recompute="all", mass="density", density=2700.0)
+    options = _all(mass="density", density=2700.0)
     dens = only(fix_file(path, options), "l").assembly.total
     assert dens.mass == pytest.approx(2700.0 * np.pi * 0.05**2 * 0.4)
 
@@ -88,7 +94,7 @@ def test_several_elements_sum_with_huygens_steiner(tmp_path):
     geo = (collision('<sphere radius="0.1"/>', "0.5 0 0") + "\n"
            + collision('<sphere radius="0.1"/>', "-0.5 0 0"))
     path = write_urdf(tmp_path, link("l", geo))
-    total = only(fix_file(path, FixOptions(recompute="all")), "l").assembly.total
+    total = only(fix_file(path, _all()), "l").assembly.total
     s = primitives.sphere(0.1, 1000.0)
     assert total.mass == pytest.approx(2 * s.mass)
     np.testing.assert_allclose(total.com, 0, atol=1e-15)
@@ -100,13 +106,13 @@ def test_geometry_modes(tmp_path):
     vis = '    <visual><geometry><box size="1 1 1"/></geometry></visual>'
     col = collision('<box size="0.1 0.1 0.1"/>')
     path = write_urdf(tmp_path, link("both", vis + "\n" + col) + "\n" + link("vis", vis))
-    auto = fix_file(path, FixOptions(recompute="all"))
+    auto = fix_file(path, _all())
     assert only(auto, "both").geometry == "collision"
     assert only(auto, "vis").geometry == "visual"
     assert only(auto, "both").assembly.total.mass == pytest.approx(1.0)
-    visual = fix_file(path, FixOptions(recompute="all", geometry="visual"))
+    visual = fix_file(path, _all(geometry="visual"))
     assert only(visual, "both").assembly.total.mass == pytest.approx(1000.0)
-    collision_only = fix_file(path, FixOptions(recompute="all", geometry="collision"))
+    collision_only = fix_file(path, _all(geometry="collision"))
     assert only(collision_only, "vis").status == "untouched"
 
 
@@ -118,7 +124,7 @@ def test_mesh_formats(tmp_path, fmt):
     data = mesh.export(file_type=fmt)
     (tmp_path / f"part.{ext}").write_bytes(data if isinstance(data, bytes) else data.encode())
     path = write_urdf(tmp_path, link("l", collision(f'<mesh filename="part.{ext}"/>')))
-    total = only(fix_file(path, FixOptions(recompute="all")), "l").assembly.total
+    total = only(fix_file(path, _all()), "l").assembly.total
     ref = mesh.mass_properties
     assert total.mass == pytest.approx(1000.0 * ref.volume, rel=1e-5)
     np.testing.assert_allclose(total.com, ref.center_mass, atol=1e-6)
@@ -132,7 +138,7 @@ def test_negative_scale_mirrors_com_and_keeps_mass_positive(tmp_path):
     geo = (collision('<mesh filename="m.stl"/>'), collision('<mesh filename="m.stl" '
                                                             'scale="1 -1 1"/>'))
     path = write_urdf(tmp_path, link("a", geo[0]) + "\n" + link("b", geo[1]))
-    res = fix_file(path, FixOptions(recompute="all"))
+    res = fix_file(path, _all())
     a, b = only(res, "a").assembly.total, only(res, "b").assembly.total
     assert b.mass == pytest.approx(a.mass)
     np.testing.assert_allclose(b.com, a.com * [1, -1, 1], atol=1e-12)
@@ -147,7 +153,7 @@ def test_multi_body_mesh_gives_one_part_per_body(tmp_path):
     b.apply_translation([0.5, 0, 0])
     trimesh.util.concatenate([a, b]).export(tmp_path / "two.stl")
     path = write_urdf(tmp_path, link("l", collision('<mesh filename="two.stl"/>')))
-    parts = only(fix_file(path, FixOptions(recompute="all")), "l").assembly.parts
+    parts = only(fix_file(path, _all()), "l").assembly.parts
     assert len(parts) == 2
     assert {round(p.part.volume, 6) for p in parts} == {round(a.volume, 6), round(b.volume, 6)}
 

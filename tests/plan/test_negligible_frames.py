@@ -26,7 +26,9 @@ TEMPLATE = """<robot name="r">
 
 @pytest.mark.parametrize(("mass", "inertia", "status"), [
     (0.001, 1e-6, Status.UNTOUCHED),  # ANYmal C's hips: a frame body
-    (2.0, 1.0, Status.LEFT),  # a real part with a placeholder and nothing to derive from
+    # a real part with a placeholder and nothing to derive from: no value to keep, the
+    # smallest honest body instead (a solid sphere of the mass)
+    (2.0, 1.0, Status.REPAIRED),
 ])
 def test_placeholder_without_geometry(tmp_path, mass, inertia, status):
     data = TEMPLATE.format(mass=mass, i=inertia).encode()

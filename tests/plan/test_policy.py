@@ -99,7 +99,8 @@ def test_each_broken_inertial_is_recomputed_and_only_it(tmp_path, code):
 
 def test_missing_inertial_on_a_moving_link_is_computed(tmp_path):
     path = write(tmp_path, robot(*CLEAN, link("c"), joint("c", "b")))
-    c = {r.name: r for r in fix_file(path, FixOptions()).links}["c"]
+    # at a constant 1000 kg/m^3 (--density); the default's mass prior: test_mass_prior.py
+    c = {r.name: r for r in fix_file(path, FixOptions(density_prior=False)).links}["c"]
     assert c.status == "recomputed" and "missing-inertial" in c.decision
     assert c.assembly.total.mass == pytest.approx(1000 * np.prod(SIZE))
 
@@ -170,7 +171,9 @@ def test_total_mass_change_is_warned(tmp_path, capsys):
     path = write(tmp_path, robot(*CLEAN, link("c"), joint("c", "b")))
     assert main(["fix", str(path), "-q", "-o", str(tmp_path / "o.urdf")]) == 0
     err = capsys.readouterr().err
-    assert "warning: total mass 7.2 kg -> 13.2 kg" in err, err
+    # the link's mass from the prior, and what a constant 1000 kg/m^3 would have given
+    assert "warning: total mass 7.2 kg -> " in err, err
+    assert "mass prior: 1 link(s) with no mass: 6 kg at 1000 kg/m³" in err, err
     clean = write(tmp_path, robot(*CLEAN))
     assert main(["fix", str(clean), "-q", "-o", str(tmp_path / "o.urdf")]) == 0
     assert capsys.readouterr().err == ""  # quiet and nothing to warn about
@@ -201,14 +204,15 @@ def test_all_recomputes_every_link_with_geometry(tmp_path):
     text = robot(*CLEAN, link("c", BROKEN["triangle-inequality"]), joint("c", "b"),
                  link("cover"), joint("cover", "b", "fixed"))
     path = write(tmp_path, text)
-    out = fix_file(path, FixOptions(recompute="all")).output
+    out = fix_file(path, FixOptions(recompute="all", density_prior=False)).output
     expected = {"base": 5.0, "a": 1.5, "b": 0.7, "c": 0.7, "cover": 6.0}
     for name, mass in expected.items():
         m, com, tensor = written(out, name)
         assert m == pytest.approx(mass, rel=1e-15) and com == [0.0, 0.0, 0.0]
         assert tensor[:3] == pytest.approx([mass * k for k in PER_KG], rel=1e-12)
         assert tensor[3:] == [0.0, 0.0, 0.0]
-    assert main(["fix", "--all", str(path), "-q", "-o", str(tmp_path / "o.urdf")]) == 0
+    assert main(["fix", "--all", str(path), "-q", "-o", str(tmp_path / "o.urdf"),
+                 "--density", "1000"]) == 0
     assert (tmp_path / "o.urdf").read_bytes() == out
 
 
@@ -240,7 +244,8 @@ def test_the_readme_policy_table(tmp_path, case):
     (body, geometry, kind), (status, decision, values) = TABLE[case]
     path = write(tmp_path, robot(*CLEAN, link("c", body, geometry=geometry),
                                  joint("c", "b", kind)))
-    result = fix_file(path, FixOptions())
+    # masses at a constant 1000 kg/m^3 (--density), to be written by hand
+    result = fix_file(path, FixOptions(density_prior=False))
     c = result.link("c")
     assert (c.status, c.decision) == (status, decision)
     if values is None:

@@ -33,31 +33,39 @@ def _masses(result) -> dict[str, float]:
 def test_derived_masses_scale_and_kept_ones_stay() -> None:
     plain = fix_file(ARM)
     result = fix_file(ARM, FixOptions(total_mass=4.6))
-    m = _masses(result)
-    # kept 2.1 kg; derived 5 kg must become 2.5 kg: a factor of 0.5
+    m, p = _masses(result), _masses(plain)
+    # kept 2.1 kg; the derived (the mass prior's, 5 kg at 1000 kg/m^3) must become 2.5 kg
+    derived = p["upper"] + p["hand"]
+    assert 2.5 < derived < 7.1
+    k = 2.5 / derived
     assert m["base"] == 2.0 and m["finger"] == 0.1
-    assert m["upper"] == pytest.approx(2.0, rel=RTOL)
-    assert m["hand"] == pytest.approx(0.5, rel=RTOL)
+    assert m["upper"] == pytest.approx(k * p["upper"], rel=RTOL)
+    assert m["hand"] == pytest.approx(k * p["hand"], rel=RTOL)
     assert sum(m.values()) == pytest.approx(4.6, rel=RTOL)
     # the tensor scales with the mass, the CoM stays
     for name in ("upper", "hand"):
         old, new = plain.link(name).after, result.link(name).after
-        np.testing.assert_allclose(new.inertia, 0.5 * old.inertia, rtol=RTOL)
+        np.testing.assert_allclose(new.inertia, k * old.inertia, rtol=RTOL)
         np.testing.assert_allclose(new.com, old.com, atol=1e-15)
+    # at a constant density (--density) the derived 5 kg scale by 0.5
+    water = _masses(fix_file(ARM, FixOptions(total_mass=4.6, density_prior=False)))
+    assert water["upper"] == pytest.approx(2.0, rel=RTOL)
+    assert water["hand"] == pytest.approx(0.5, rel=RTOL)
     # kept links keep their bytes: the written base and finger are untouched
     assert result.output.count(b'<mass value="2.0"/>') == 1
     assert result.output.count(b'<mass value="0.1"/>') == 1
     (target,) = result.targets
     assert (target.before, target.target) == (2.1, 4.6)
-    assert target.unscaled == pytest.approx(7.1, rel=RTOL)
+    assert target.unscaled == pytest.approx(2.1 + derived, rel=RTOL)
     assert target.after == pytest.approx(4.6, rel=RTOL)
     assert set(target.scaled) == {"upper", "hand"}
 
 
 def test_scale_kept_scales_every_mass() -> None:
-    result = fix_file(ARM, FixOptions(total_mass=3.55, scale_kept=True))
+    # at a constant 1000 kg/m^3 the derived links weigh 5 kg: 7.1 kg -> 3.55 kg, a half
+    result = fix_file(ARM, FixOptions(total_mass=3.55, scale_kept=True, density_prior=False))
     m = _masses(result)
-    assert m["base"] == pytest.approx(1.0, rel=RTOL)  # 7.1 kg -> 3.55 kg: a half
+    assert m["base"] == pytest.approx(1.0, rel=RTOL)
     assert m["finger"] == pytest.approx(0.05, rel=RTOL)
     np.testing.assert_allclose(result.link("base").after.inertia,
                                np.eye(3) * 0.5 * 0.00333333333, rtol=RTOL)
@@ -99,7 +107,7 @@ def test_cli_refusal_writes_nothing(tmp_path: Path, capsys) -> None:
 def test_cli_summary_and_json(tmp_path: Path, capsys) -> None:
     out, js = tmp_path / "out.urdf", tmp_path / "out.json"
     assert main(["fix", str(ARM), "-o", str(out), "--total-mass", "4.6", "--json",
-                 str(js)]) == 0
+                 str(js), "--density", "1000"]) == 0
     err = capsys.readouterr().err
     assert "total mass target 4.6 kg: before 2.1 kg, after 4.6 kg" in err
     doc = json.loads(js.read_text())
@@ -199,8 +207,9 @@ point = { xyz = [0, 0, 0.1], mass = 1.0 }
         "[links.upper.elements.body.parts.motor]\npoint = { xyz = [0, 0, 0.1], mass = 1.0 }\n",
         tmp_path / "plain.toml")))
     result = fix_file(ARM, FixOptions(spec=spec))
-    # kept 2.1 kg; derived upper (4 kg box + 1 kg point) and hand (1 kg) -> 1.0 kg: x1/6
-    k = 1.0 / 6.0
+    # kept 2.1 kg; derived upper (4 kg box at 1000 kg/m^3 + 1 kg point) and hand (the mass
+    # prior's) -> 1.0 kg: one factor for all
+    k = 1.0 / (plain.link("upper").after.mass + plain.link("hand").after.mass)
     old, new = plain.link("upper"), result.link("upper")
     assert new.after.mass == pytest.approx(5.0 * k, rel=RTOL)
     np.testing.assert_allclose(new.after.inertia, k * old.after.inertia, rtol=1e-12)

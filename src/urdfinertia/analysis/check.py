@@ -97,6 +97,19 @@ class CheckResult:
         """Findings by severity."""
         return {s: sum(f.severity == s for f in self.findings) for s in SEVERITIES}
 
+    def link(self, name: str) -> LinkResult:
+        """The verdict of link `name`, as `FixResult.link` gives it.
+
+        Raises
+        ------
+        KeyError
+            No link of that name.
+        """
+        for r in self.links:
+            if r.name == name:
+                return r
+        raise KeyError(name)
+
     def failing(self, strict: bool = False) -> tuple[Finding, ...]:
         """The findings that fail the run: errors; with `strict` also every warning that `fix` does
         not keep on purpose ([`LinkResult.keeps`][urdfinertia.plan.results.LinkResult.keeps]): a

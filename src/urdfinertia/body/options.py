@@ -46,7 +46,7 @@ class FixOptions:
         kg/m^3 used when a link has no mass or with `mass="density"`.
     density_prior : bool
         A link with no usable mass gets the density the mass prior predicts for it
-        ([`urdfinertia.priors`][urdfinertia.priors]: the robot's kind, the part's size and
+        (`urdfinertia.priors`: the robot's kind, the part's size and
         place, with a calibrated band) instead of `density`. False when a density is
         given (`--density`, `density=`): a constant density, as asked.
     package_dirs : mapping of str to Path

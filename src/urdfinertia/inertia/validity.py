@@ -56,7 +56,8 @@ def symmetric_part(t: np.ndarray) -> np.ndarray:
 def symmetric_eigh(sym: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``np.linalg.eigh`` of a finite symmetric (3, 3) tensor at any magnitude.
 
-    Outside :data:`EIGEN_RANGE` the tensor is scaled by a power of two (exact) and the
+    Outside `EIGEN_RANGE` the tensor is scaled by a
+    power of two (exact) and the
     moments scaled back; a moment beyond float64's range comes back infinite.
     """
     scale = float(np.abs(sym).max())
@@ -72,7 +73,7 @@ def symmetric_eigh(sym: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def symmetric_eigvalsh(sym: np.ndarray) -> np.ndarray:
     """``np.linalg.eigvalsh`` of a finite symmetric (3, 3) tensor at any magnitude (as
-    :func:`symmetric_eigh`)."""
+    `symmetric_eigh`)."""
     scale = float(np.abs(sym).max())
     if scale == 0.0 or EIGEN_RANGE[0] <= scale <= EIGEN_RANGE[1]:
         moments: np.ndarray = np.linalg.eigvalsh(sym)

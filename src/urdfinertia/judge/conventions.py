@@ -85,12 +85,12 @@ APPLY_LIMITS = dataclasses.replace(LIMITS, band=math.inf)
 
 
 def _scores(w: Written, solid: Solid) -> tuple[Scored, dict[str, Scored], dict[str, bool]]:
-    """The value as written, each convention's edit, and whether each edit gives values
-    ``check`` accepts (:data:`APPLY_LIMITS`)."""
+    """The value as written, each convention's edit, and whether each edit (and, under
+    "none", the value as written) gives values ``check`` accepts (:data:`APPLY_LIMITS`)."""
     ranked = rank_edits(w, solid, LIMITS)
     none = next(s for s in ranked if s.edit.slip == "none")
     accepted = {s.edit.name: s.feasible for s in rank_edits(w, solid, APPLY_LIMITS)
-                if s.edit.name in CONVENTIONS}
+                if s.edit.name in CONVENTIONS or s.edit.slip == "none"}
     return none, {s.edit.name: s for s in ranked if s.edit.name in CONVENTIONS}, accepted
 
 
@@ -130,7 +130,10 @@ def _infer(scored: Mapping[str, tuple[Scored, dict[str, Scored], dict[str, bool]
                 support += 1
             elif none.feasible and (not s.feasible or delta >= MARGIN):
                 contradict += 1
-            if accepted.get(edit, False) and (not none.feasible or delta <= 0):
+            # undone where the edit gives accepted values no less likely than as written
+            # (or where only the edit's values are accepted: an invalid value as written)
+            if accepted.get(edit, False) and (delta <= 0 or not accepted.get(none.edit.name,
+                                                                              False)):
                 apply.append(name)
         if support >= MIN_SUPPORT and support >= SUPPORT_SHARE * informative \
                 and contradict <= CONTRADICTION_SHARE * support:

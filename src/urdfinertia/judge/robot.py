@@ -16,7 +16,8 @@ slip search (:mod:`.slips`). Then the robot as evidence:
   twins that disagree say which side fits its geometry;
 - **witnesses**: a correction that moves the robot's total mass by more than
   :data:`WITNESS_SHARE` needs a witness (the mass distribution, a convention, a mirror twin
-  of the corrected mass, or a total-mass target); without one it is proposed, not applied.
+  of the corrected mass, the robot's densities, or a total-mass target); without one it is
+  proposed, not applied.
 
 The result, a :class:`Judgement`, is what the plan (:mod:`urdfinertia.plan.policy`) decides
 from. Nothing here writes or decides what ``fix`` does.

@@ -21,6 +21,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from urdfinertia.body.options import FixOptions
 from urdfinertia.errors import UrdfError, UrdfInertiaError
 from urdfinertia.findings import Finding
@@ -136,14 +138,42 @@ def fix_robot(robot: Robot, data: bytes, options: FixOptions,
                             found.findings).strict_refusal()
         if refusal is not None:
             raise refusal
-    # the writer is told what was derived: kept values keep their bytes
-    new = {r.name: NewInertial(r.assembly.total, r.size, frozenset(r.derived) or VALUES)
-           for r in found.links if r.changed and r.assembly is not None}
+    # the writer is told what was derived: kept values keep their bytes, and so do derived
+    # ones equal to the written to round-off (a second --all run rewrites nothing)
+    new = {}
+    for r in found.links:
+        if r.changed and r.assembly is not None:
+            derived = (frozenset(r.derived) or frozenset(VALUES)) - _as_written(r)
+            if derived:
+                new[r.name] = NewInertial(r.assembly.total, r.size, derived)
     try:
         output = format_of(robot).patch(data, new)
     except UrdfInertiaError as exc:
         raise exc.with_context(file=path) from None
     return FixResult(path, robot, found.links, data, output, found.targets, found.findings)
+
+
+#: Derived values within this relative round-off of the written ones keep their bytes.
+ROUND_OFF = 1e-12
+
+
+def _as_written(r: LinkResult) -> frozenset[str]:
+    """The values of ``r`` the output would write equal, to :data:`ROUND_OFF`, to the
+    written ones ("mass", "com", "tensor")."""
+    before = r.before
+    if before is None or r.assembly is None:
+        return frozenset()
+    after = r.assembly.total
+    size = max(r.size, 1e-9)
+    same = set()
+    if abs(after.mass - before.mass) <= ROUND_OFF * abs(before.mass):
+        same.add("mass")
+    if float(np.abs(after.com - before.com).max()) <= ROUND_OFF * size:
+        same.add("com")
+    scale = float(np.abs(before.inertia).max())
+    if scale > 0 and float(np.abs(after.inertia - before.inertia).max()) <= ROUND_OFF * scale:
+        same.add("tensor")
+    return frozenset(same)
 
 
 def fix_file(path: str | Path, options: FixOptions | None = None,

@@ -296,6 +296,7 @@ def _recompute(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...], *,
                         unresolved=bool(dropped) or bool(grounds), notes=notes)
     best, chosen = choose(candidates, kept_mass, com)
     prior = None
+    # with a target mass (--total-mass, the spec's) the prior's masses are what is scaled
     if mass is None and source.kind == "density" and options.density_prior \
             and options.mass == "keep":
         prior = _mass_prior(ev, best, candidates)

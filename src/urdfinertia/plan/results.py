@@ -247,10 +247,11 @@ class LinkResult:
     def keeps(self, finding: Finding) -> bool:
         """`fix` keeps the value `finding` is about, on purpose, and says why (`check
         --strict` does not fail on it): an info, or a finding on the values of a link
-        that `fix` keeps as written."""
+        that `fix` keeps as written or leaves on purpose (a frame on a fixed joint, a
+        negligible part: [`Status.UNTOUCHED`][urdfinertia.plan.results.Status.UNTOUCHED])."""
         if finding.severity == Severity.INFO:
             return True
-        return (finding.link == self.name and self.status == Status.KEPT
+        return (finding.link == self.name and self.status in (Status.KEPT, Status.UNTOUCHED)
                 and finding.rule.scope in (Scope.INERTIAL, Scope.LINK))
 
     @property

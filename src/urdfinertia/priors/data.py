@@ -27,7 +27,7 @@ class PriorsDataError(ValueError):
 class PriorTable:
     """The data file's content.
 
-    mass : the density model (``coefficients`` by term of :mod:`urdfinertia.priors.terms`,
+    mass : the density model (``coefficients`` by term of `urdfinertia.priors.terms`,
         ``band`` and ``robot_band``: quantiles of the held-out log10 ratio CAD/predicted).
     structure : the structure prior of tensors (``cells`` by key, ``level``).
     produced : what produced the file (command, corpus, version, date).

@@ -1,10 +1,12 @@
 """What can be known of a link without CAD: its robot's kind, its size, its place in the chain.
 
 Everything here is read from the robot model (links, joints, names) and from the geometry
-the tool integrates (its volume and box); nothing is fitted. :func:`robot_features` is
-computed once per robot, :func:`link_features` once per link.
+the tool integrates (its volume and box); nothing is fitted.
+`robot_features` is
+computed once per robot, `link_features` once per link.
 
-How the robot's kind is inferred (:func:`robot_kind`), first rule that holds:
+How the robot's kind is inferred (`robot_kind`), first
+rule that holds:
 
 1. propellers, rotor-craft words (quadrotor, drone, flying...) or three rotors on the root
    link make it "aerial"; a thruster or hull "marine";
@@ -14,7 +16,8 @@ How the robot's kind is inferred (:func:`robot_kind`), first rule that holds:
 3. without a serial chain of four or more revolute joints (fingers' joints not counted):
    fingers (finger, thumb, palm, knuckle, phalanx...) on at least five moving joints and
    half of them, or three branches of two revolute joints or more from one link on a
-   robot within :data:`HAND_SIZE`, make a "hand"; a gripper's words (gripper, jaw, claw)
+   robot within `HAND_SIZE`, make a "hand"; a gripper's
+   words (gripper, jaw, claw)
    or fingers a "gripper";
 4. wheels on a robot without a serial chain of four or more revolute joints:
    "mobile base";
@@ -92,7 +95,8 @@ def _has(name: str, group: str) -> bool:
 class RobotFeatures:
     """What is known of a robot as a whole.
 
-    kind : one of :data:`ROBOT_KINDS`; why : the rule that gave it, in words.
+    kind : one of `ROBOT_KINDS`; why : the rule that gave
+        it, in words.
     depth : per link, the number of moving joints between the root and the link.
     below : per link, the share of the robot's links in its subtree (the link excluded).
     joints : per link, the moving joints at the link (its parent joint and its children).
@@ -111,9 +115,10 @@ class RobotFeatures:
 
 @dataclass(frozen=True)
 class LinkFeatures:
-    """What is known of one link without CAD (the inputs of :mod:`urdfinertia.priors.model`).
+    """What is known of one link without CAD (the inputs of `model`).
 
-    robot_kind, part : :data:`ROBOT_KINDS`, :data:`PART_KINDS`.
+    robot_kind, part : `ROBOT_KINDS`,
+        `PART_KINDS`.
     geometry : "primitive", "hull" or "mesh"; role : "collision", "visual" or "geom".
     volume : of the geometry the tool integrates, m^3; fill : that volume over its box's.
     diagonal : the box's diagonal, m.
@@ -188,7 +193,8 @@ def _extent(robot: Robot) -> float:
 
 
 def robot_kind(robot: Robot) -> tuple[str, str]:
-    """The robot's kind (:data:`ROBOT_KINDS`) and the rule that gave it (module doc)."""
+    """The robot's kind (`ROBOT_KINDS`) and the rule that
+    gave it (module doc)."""
     names = [robot.name] + [lk.name for lk in robot.links] + [j.name for j in robot.joints]
     moving = [j for j in robot.joints if j.type != "fixed"]
     count = {g: sum(_has(n, g) for n in names) for g in _WORDS}
@@ -288,7 +294,8 @@ def _subtree(name: str, children: dict[str, list[Joint]]) -> int:
 
 
 def part_kind(link: str, robot: RobotFeatures) -> str:
-    """Where on the robot the link is (:data:`PART_KINDS`): from its name, else "base" at
+    """Where on the robot the link is (`PART_KINDS`): from
+    its name, else "base" at
     the root and "end" at a leaf."""
     w = words(link)
     for group in ("finger", "wheel", "leg", "arm", "head", "torso", "base"):
@@ -318,11 +325,11 @@ def link_features(link: str, robot: RobotFeatures, *, volume: float,
     Parameters
     ----------
     link : the link's name.
-    robot : :func:`robot_features` of its robot.
+    robot : `robot_features` of its robot.
     volume : of the geometry the tool integrates, m^3 (positive).
     box : (min, max) corners of that geometry's box in the link frame, m; None when not
         known (the fill is then taken as 0.5).
-    geometry, role : the geometry's kind and role (:mod:`urdfinertia.body.geometry_choice`).
+    geometry, role : the geometry's kind and role (`urdfinertia.body.geometry_choice`).
     others : the volumes of the link's other geometries (candidate sets), m^3.
     """
     if not volume > 0:

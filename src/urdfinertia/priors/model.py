@@ -1,8 +1,8 @@
 """The mass prior: a link's effective density from what is known without CAD, with its band.
 
 The effective density of a link is its mass over the volume of the geometry the tool
-integrates. Its log10 is modelled as a sum of terms (:mod:`urdfinertia.priors.terms`), each
-weighted by a coefficient of the data file (:mod:`urdfinertia.priors.data`); the band is
+integrates. Its log10 is modelled as a sum of terms (`urdfinertia.priors.terms`), each
+weighted by a coefficient of the data file (`urdfinertia.priors.data`); the band is
 the interval of the held-out ratio CAD/predicted that held for the stated share of the
 measured links (``scripts/bench_priors.py`` fits both, leaving one package out at a time).
 

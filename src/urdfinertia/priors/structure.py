@@ -4,7 +4,8 @@ A derived tensor integrates the link's geometry as one homogeneous body. A real 
 part of its mass elsewhere: actuators on its joint axes, a dense core, or a hollow shell.
 The structure prior says which, per kind of link (the data file's ``structure.cells``,
 fitted by ``scripts/bench_priors.py`` with one package left out at a time), as a list of
-:class:`PriorPart` that sum to the link's mass with its kept centre of mass:
+`PriorPart` that sum to the link's mass with its kept
+centre of mass:
 
 - ``homogeneous``: one part, the geometry itself (what ``fix`` integrates today); kept
   wherever nothing else was measured to do better;
@@ -18,7 +19,8 @@ fitted by ``scripts/bench_priors.py`` with one package left out at a time), as a
 - ``shell``: the geometry less the geometry shrunk by ``scale`` (a hollow shell): a solid
   part of share ``1 / (1 - scale^3)`` and a cavity of share ``-scale^3 / (1 - scale^3)``.
 
-:func:`prior_body` turns the parts into mass properties (pure numpy) so that the lead's
+`prior_body` turns the parts into mass properties (pure
+numpy) so that the lead's
 element/part decomposition and the benchmark compute the same tensor.
 """
 
@@ -35,7 +37,7 @@ from urdfinertia.priors.data import PriorTable, load_table
 from urdfinertia.priors.features import JointAxis, LinkFeatures
 
 MODELS = ("homogeneous", "actuators", "core", "shell")
-#: shapes of a :class:`PriorPart`
+#: shapes of a `PriorPart`
 SHAPES = ("geometry", "scaled geometry", "cylinder")
 
 
@@ -153,11 +155,11 @@ def structure_prior(features: LinkFeatures, *, centroid: np.ndarray, com: np.nda
 
     Parameters
     ----------
-    features : the link's features (:func:`urdfinertia.priors.features.link_features`),
+    features : the link's features (`link_features`),
         of the geometry the tensor integrates.
     centroid : (3,) that geometry's centroid in the link frame, m.
     com : (3,) the kept centre of mass in the link frame, m.
-    axes : the link's moving joints (:func:`urdfinertia.priors.features.joint_axes`).
+    axes : the link's moving joints (`joint_axes`).
     """
     table = table or load_table()
     key, cell = cell_of(features, table)

@@ -1,7 +1,7 @@
 """The terms of the density model: what each link feature contributes, one column each.
 
-The model (:mod:`urdfinertia.priors.model`) is linear in these terms on the log10 of the
-effective density; the fit (:mod:`urdfinertia.priors.fit`) and the prediction both build
+The model (`model`) is linear in these terms on the log10 of the
+effective density; the fit (`urdfinertia.priors.fit`) and the prediction both build
 them here, so the data file's coefficient names and the code cannot drift apart.
 
 - ``intercept``: 1;
@@ -10,10 +10,10 @@ them here, so the data file's coefficient names and the code cannot drift apart.
   contributes nothing: the link is predicted as the average one);
 - ``log_volume``: log10 of the volume over one litre; ``log_fill``: log10 of the volume
   over its box's; ``log_extent``: log10 of the robot's size over one metre (at least
-  :data:`MIN_EXTENT`); ``log_excess``: log10 of the volume over the link's smallest
+  `MIN_EXTENT`); ``log_excess``: log10 of the volume over the link's smallest
   geometry's (:attr:`~urdfinertia.priors.features.LinkFeatures.excess`);
 - ``depth_share``, ``below``: 0..1; ``joints``: moving joints at the link, at most
-  :data:`MAX_JOINTS`.
+  `MAX_JOINTS`.
 """
 
 from __future__ import annotations

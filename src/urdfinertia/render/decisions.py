@@ -79,7 +79,7 @@ def print_mass_summary(result: FixResult, console: Console, quiet: bool = False)
     console.print(f"[{style}]warning: {change}[/]" if warn else change.text(), highlight=False)
     for f in result.robot_findings:
         if f.rule is Rule.MASS_PRIOR:
-            console.print(f.message, highlight=False, markup=False)
+            console.print(f"mass prior: {f.message}", highlight=False, markup=False)
 
 
 def _worth_listing(r: LinkResult) -> bool:

@@ -19,7 +19,7 @@ RHO = 1000.0
 
 def fix(data: bytes, **options):
     robot = robot_from_bytes(data, "m.sdf")
-    return fix_robot(robot, data, FixOptions(recompute="all", **options))
+    return fix_robot(robot, data, FixOptions(recompute="all", density_prior=False, **options))
 
 
 def written(output: bytes, name: str):

@@ -120,7 +120,7 @@ _PREFIXES = ("urdf-inertia: error: ", "urdf-inertia: warning: ",
 #: FILE[:LINE]: at the start of a message
 _LOCATION = re.compile(r"^(?P<file>[^\s:]*[/.][^\s:]*)(?::(?P<line>\d+))?: ")
 #: stderr lines of the tool that are not error or warning lines
-_OWN = re.compile(r"^(urdf-inertia: |total mass |warning: total mass |\s*$)")
+_OWN = re.compile(r"^(urdf-inertia: |total mass |warning: total mass |mass prior: |\s*$)")
 
 
 def classify(command: str, run: RunResult, *, before: dict[str, str],
