@@ -75,6 +75,21 @@ def _verdict(r) -> tuple:  # noqa: ANN001
     return r.action, r.why, values
 
 
+def _compare(robot, found, path, label, seen, clashes) -> None:  # noqa: ANN001
+    """Record each link's verdict under its key; a clash with a link seen before of the
+    same key, and between mirror twins, is appended to ``clashes``."""
+    for link in robot.links:
+        key = _key(link, path.parent, _moves(robot, link.name))
+        if key is None:
+            continue
+        v = _verdict(found[link.name])
+        where = f"{label}:{link.name}"
+        if key in seen and seen[key][1] != v:
+            clashes.append(f"{seen[key][0]} {seen[key][1][0]} vs {where} {v[0]}")
+        seen.setdefault(key, (where, v))
+    _twins(robot, found, clashes, label)
+
+
 @pytest.mark.skipif(not PACKAGES, reason="example-robot-data is not installed")
 @pytest.mark.parametrize("package", sorted(PACKAGES))
 def test_identical_links_in_one_robots_files_get_one_verdict(package):
@@ -87,16 +102,7 @@ def test_identical_links_in_one_robots_files_get_one_verdict(package):
         except Exception:  # noqa: BLE001 - a file the reader refuses has no verdicts
             continue
         found = {r.name: r for r in verdicts(robot, FixOptions(), meshes).links}
-        for link in robot.links:
-            key = _key(link, path.parent, _moves(robot, link.name))
-            if key is None:
-                continue
-            v = _verdict(found[link.name])
-            where = f"{path.name}:{link.name}"
-            if key in seen and seen[key][1] != v:
-                clashes.append(f"{seen[key][0]} {seen[key][1][0]} vs {where} {v[0]}")
-            seen.setdefault(key, (where, v))
-        _twins(robot, found, clashes, path.name)
+        _compare(robot, found, path, path.name, seen, clashes)
     assert not clashes, "\n".join(clashes[:20])
 
 
@@ -169,14 +175,5 @@ def test_identical_links_over_a_corpus():
             meshes = mesh_library(dirs)
             found = {r.name: r for r in verdicts(robot, FixOptions(package_dirs=dirs),
                                                   meshes).links}
-            for link in robot.links:
-                key = _key(link, path.parent, _moves(robot, link.name))
-                if key is None:
-                    continue
-                v = _verdict(found[link.name])
-                where = f"{e['file']}:{link.name}"
-                if key in seen and seen[key][1] != v:
-                    clashes.append(f"{seen[key][0]} {seen[key][1][0]} vs {where} {v[0]}")
-                seen.setdefault(key, (where, v))
-            _twins(robot, found, clashes, e["file"])
+            _compare(robot, found, path, e["file"], seen, clashes)
     assert not clashes, "\n".join(clashes[:30])
