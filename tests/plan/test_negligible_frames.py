@@ -39,3 +39,18 @@ def test_placeholder_without_geometry(tmp_path, mass, inertia, status):
     assert hip.status == status, hip.decision
     assert "placeholder" in hip.why
     assert (hip in result.left) == (status == Status.LEFT)
+
+
+def test_a_mass_whose_sphere_underflows_gets_the_minimal_body(tmp_path):
+    """1e-300 kg (a fuzzed value) with a placeholder: the solid sphere of that mass has
+    moments that underflow to 0, so the link gets the minimal moving body instead."""
+    from urdfinertia.inertia.validity import diagnose_tensor
+    from urdfinertia.plan.policy import MIN_BODY_MASS
+
+    data = TEMPLATE.format(mass="1e-300", i=1.0).encode()
+    path = tmp_path / "r.urdf"
+    path.write_bytes(data)
+    hip = fix_robot(robot_from_bytes(data, path), data, FixOptions(), MeshLibrary()).link("hip")
+    assert hip.status == Status.REPAIRED, hip.decision
+    assert hip.after.mass == MIN_BODY_MASS
+    assert diagnose_tensor(hip.after.inertia).valid

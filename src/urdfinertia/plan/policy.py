@@ -406,8 +406,13 @@ def _repair(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...],
     raw = ev.raw
     name = ev.name
     options = ev.options
+    radius = (3 * raw.mass / (4 * math.pi * options.density)) ** (1 / 3) \
+        if raw is not None and raw.mass_ok and 0 < raw.mass <= 1e6 else 0.0
+    # a mass so small its sphere's moments underflow (1e-300 kg) is no usable mass either
+    usable = radius > 0 and diagnose_tensor(_sphere(raw.mass, radius)).valid \
+        if raw is not None else False
     if raw is None or not raw.mass_ok or raw.mass > 1e6 or (
-            raw.mass == 0 and not raw.inertia.any()):
+            raw.mass == 0 and not raw.inertia.any()) or (0 < raw.mass and not usable):
         com = raw.com if raw is not None and raw.com_ok and _finite_com(raw.com) \
             else np.zeros(3)
         body = MassProperties(MIN_BODY_MASS, com, _sphere(MIN_BODY_MASS, MIN_BODY_RADIUS))
@@ -436,7 +441,6 @@ def _repair(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...],
                     notes=notes)
         except (ValueError, np.linalg.LinAlgError):
             pass
-    radius = (3 * raw.mass / (4 * math.pi * options.density)) ** (1 / 3)
     body = MassProperties(raw.mass, com, _sphere(raw.mass, radius))
     what = "placeholder" if placeholder else "tensor"
     note = Finding(Rule.TENSOR_HOLDS_NOTHING, name, f"the {what} holds nothing to keep: a "
