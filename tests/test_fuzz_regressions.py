@@ -54,3 +54,18 @@ def test_derived_values_stay_within_what_the_readers_accept(tmp_path, capsys):
     robot, _ = read_description(out)  # what fix reads: values past 1e9 are ignored
     readable = robot.link("arm").inertial is not None
     assert readable or (code == 1 and "link 'arm'" in err), (code, err)
+
+
+def test_all_never_writes_a_tensor_beyond_what_the_readers_accept(tmp_path, capsys):
+    """Fuzz (seed 4): under ``--all`` a mesh scaled huge gave a kept 1 kg a tensor above
+    1e9 kg m^2, written. A 100 km box does it: the link keeps its written values."""
+    text = ROBOT.format(ixx="1", size="100000 100000 100000").replace(
+        '<link name="arm">', '<link name="arm"><inertial><mass value="1"/><inertia ixx="0.1" '
+        'ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>')
+    src = tmp_path / "r.urdf"
+    src.write_text(text)
+    out = tmp_path / "out.urdf"
+    cli.main(["fix", "--all", str(src), "-o", str(out), "-q", "--no-cache"])
+    written = read_description(out)[0].link("arm").inertial
+    assert written is not None and max(written.ixx, written.iyy, written.izz) < 1e9
+    assert "beyond what a description can state" in capsys.readouterr().err

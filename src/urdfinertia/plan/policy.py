@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -43,6 +44,9 @@ from urdfinertia.judge.values import reaches_too_far
 from urdfinertia.plan.results import Action
 from urdfinertia.priors.model import MassPrior
 from urdfinertia.rules import Rule
+
+if TYPE_CHECKING:
+    from urdfinertia.inertia.massprops import MassProperties
 
 #: Findings that make ``fix`` change a link by default.
 RECOMPUTE = (
@@ -309,6 +313,9 @@ def _recompute(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...], *,
     try:
         with np.errstate(all="raise"):
             assembly = assemble(best.parts, source)
+        if not _stateable(assembly.total):
+            raise ValueError("the values are beyond what a description can state (1e9 in "
+                             "SI units)")
     except (UrdfInertiaError, ValueError, FloatingPointError) as exc:
         cause = exc.cause if isinstance(exc, UrdfInertiaError) else str(exc)
         note = Finding(Rule.DERIVED_FROM_IMPLAUSIBLE, ev.name, f"mass properties cannot be "
@@ -448,6 +455,15 @@ def _repair(ev: LinkEvidence, j: LinkJudgement, grounds: tuple[Rule, ...],
                    "inertial")
     return LinkPlan(name, Action.REPAIR, grounds, because, keep, Assembly(
         body, (), MassSource("kept", raw.mass)), role="none", notes=(note,))
+
+
+def _stateable(mp: MassProperties) -> bool:
+    """Every value of ``mp`` within what the readers read back (a mesh scaled to the size
+    of a planet gives a mass above 1e9 kg that no reader would accept)."""
+    from urdfinertia.descriptions.urdf.read import MAX_MAGNITUDE
+
+    values = np.abs(np.concatenate(([mp.mass], mp.com, mp.inertia.ravel())))
+    return bool(np.all(np.isfinite(values)) and values.max() <= MAX_MAGNITUDE)
 
 
 def _finite_com(com: np.ndarray) -> bool:
