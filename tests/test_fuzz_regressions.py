@@ -69,3 +69,26 @@ def test_all_never_writes_a_tensor_beyond_what_the_readers_accept(tmp_path, caps
     written = read_description(out)[0].link("arm").inertial
     assert written is not None and max(written.ixx, written.iyy, written.izz) < 1e9
     assert "beyond what a description can state" in capsys.readouterr().err
+
+
+SDF_ROOT = """<sdf version="1.9"><model name="m">
+  <link name="base"><inertial><mass>1e307</mass>
+    <inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia>
+    </inertial>
+    <collision name="c"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></collision>
+  </link>
+</model></sdf>
+"""
+
+
+def test_an_unreadable_inertial_on_a_root_link_is_not_left_in_place(tmp_path, capsys):
+    """Fuzz (seed 4): a root link's <inertial> the reader could not read (1e307 kg) was
+    taken as absent and, a root link without <inertial> being left as it is, written back
+    unreadable. It is derived from the geometry as if absent instead."""
+    src = tmp_path / "m.sdf"
+    src.write_text(SDF_ROOT)
+    out = tmp_path / "out.sdf"
+    cli.main(["fix", str(src), "-o", str(out), "-q", "--no-cache", "--density", "1000"])
+    capsys.readouterr()
+    written = read_description(out)[0].link("base").inertial
+    assert written is not None and written.mass == pytest.approx(8.0)

@@ -171,7 +171,10 @@ def _decide(ev: LinkEvidence, j: LinkJudgement, robot: RobotEvidence) -> LinkPla
         if rules & INVALID:
             return _repair(ev, j, tuple(r for r in RECOMPUTE if r in rules))
         return LinkPlan(name, Action.KEEP, because=Rule.NOT_ASKED)
-    massless = link.inertial is None or link.inertial.mass == 0
+    # an <inertial> the reader could not read is not an absent one: its bytes would stay
+    unread = link.inertial is None and any(f.element == "inertial" for f in j.findings)
+    massless = (link.inertial is None and not unread) or (
+        link.inertial is not None and link.inertial.mass == 0)
     if massless and not ev.moves and not (link.inertial is not None and rules & INVALID
                                           - {Rule.MASS_NOT_POSITIVE, Rule.MASS_ZERO_MERGED}):
         if not ev.is_root:
@@ -182,6 +185,14 @@ def _decide(ev: LinkEvidence, j: LinkJudgement, robot: RobotEvidence) -> LinkPla
                    "when named)")
         return LinkPlan(name, Action.LEAVE, because=Rule.MASSLESS_FRAME,
                         notes=(Finding(Rule.MASSLESS_FRAME, name, why, link.line),))
+    if unread:
+        # derived from the geometry as if absent, so that no unreadable value is left
+        cause = next(f.rule for f in j.findings if f.element == "inertial")
+        plan = _recompute(ev, j, (cause,), keep_mass=False, keep_com=False)
+        if plan.action == Action.RECOMPUTE:
+            return plan
+        return LinkPlan(name, Action.LEAVE, (cause,), plan.because, unresolved=True,
+                        notes=plan.notes)
     if link.inertial is None and link.implicit is not None:
         if link.implicit.mass is not None:  # a USD mass without a tensor: derive it
             return _recompute(ev, j, (Rule.USD_MASS_WITHOUT_TENSOR,), keep_mass=True,
