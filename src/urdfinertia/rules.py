@@ -839,8 +839,8 @@ _TABLE: dict[Rule, RuleInfo] = {
         "per joint, `urdfinertia.analysis.statics.MAX_WORK`), so that time and memory stay "
         "bounded on a long chain; beyond the bound fewer random configurations are drawn "
         "and fewer joints refined, and the loads found may be lower than the true largest.",
-        "statics sampled 38 configurations, not 259, and refined 0 of 999 joints "
-        "(1000 links)",
+        "statics sampled 39 configurations, not 259, and refined 0 of 372 joints near their "
+        "limit (1000 links): the loads found may be below the largest",
         "nothing to silence: it is info; `check --no-statics` skips the statics"),
     R.GEOMETRY_NOT_BODY: RuleInfo(
         "UI801", I_, Scope.LINK, FixAction.KEEP,
