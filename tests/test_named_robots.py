@@ -71,9 +71,11 @@ def test_romeo_laas_small_invalid_links_without_meshes_are_repaired(tmp_path, ca
                         "RHipPitch_link"}
     assert not fixed.left and all(fixed.link(n).after.is_physical() for n in repaired)
     out = tmp_path / "romeo.urdf"
-    assert main(["fix", "-q", str(path), "-o", str(out)]) == 0
-    # check could not read 20 links' meshes: it says so and exits 1
+    # fix and check could not read 20 links' meshes: both say so, even with -q, and exit 1
     capsys.readouterr()
+    assert main(["fix", "-q", str(path), "-o", str(out)]) == 1
+    assert "not verified: 20 meshes unresolved or unreadable in 20 links" \
+        in capsys.readouterr().err
     assert main(["check", "-q", str(path)]) == 1
     assert "not verified: 20 meshes unresolved or unreadable in 20 links: pass " \
         "--package-dir NAME=PATH" in capsys.readouterr().out

@@ -214,6 +214,7 @@ class Rule(StrEnum):
     MASS_PRIOR = "mass-prior"
     TOTAL_MASS_CHANGED = "total-mass-changed"
     MASS_TARGET_MET = "mass-target-met"
+    STATICS_COARSENED = "statics-coarsened"
     # UI8xx: what fix did and why
     GEOMETRY_NOT_BODY = "geometry-not-body"
     NEGLIGIBLE_BODY = "negligible-body"
@@ -831,6 +832,16 @@ _TABLE: dict[Rule, RuleInfo] = {
         "`--total-mass` or a spec's target: the derived (or, with `--scale-kept`, all) "
         "masses were scaled to meet it.", "total mass 51.2 kg -> 55 kg (target 55 kg)",
         "nothing to silence: it is info"),
+    R.STATICS_COARSENED: RuleInfo(
+        "UI709", I_, Scope.ROBOT, FixAction.NONE,
+        "the statics sampled fewer configurations than usual: the robot is large",
+        "The gravity loads are sampled over a bounded number of configurations (total and "
+        "per joint, `urdfinertia.analysis.statics.MAX_WORK`), so that time and memory stay "
+        "bounded on a long chain; beyond the bound fewer random configurations are drawn "
+        "and fewer joints refined, and the loads found may be lower than the true largest.",
+        "statics sampled 39 configurations, not 259, and refined 0 of 372 joints near their "
+        "limit (1000 links): the loads found may be below the largest",
+        "nothing to silence: it is info; `check --no-statics` skips the statics"),
     R.GEOMETRY_NOT_BODY: RuleInfo(
         "UI801", I_, Scope.LINK, FixAction.KEEP,
         "the geometry is not the body (contact spheres, a marker, a pin, an envelope): no "

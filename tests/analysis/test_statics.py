@@ -107,3 +107,40 @@ def test_weak_arm_fixture_through_check():
 def test_written_bodies_skip_massless_links():
     robot, _ = read_description(FIXTURE)
     assert "world_frame" not in written_bodies(robot)
+
+
+def chain(links: int, effort: float = 1.0) -> tuple[Robot, dict[str, Body]]:
+    """A serial chain of 1 kg links 0.1 m apart on y-axis joints; every load is above
+    ``effort``, so every joint asks for refinement (the statics' worst case)."""
+    names = [f"l{i}" for i in range(links)]
+    joints = tuple(Joint(f"j{i}", "revolute", names[i - 1], names[i], Origin((0, 0, 0.1)),
+                         axis=(0, 1, 0), lower=-1.0, upper=1.0, effort=effort)
+                   for i in range(1, links))
+    bodies = {n: Body(1.0, np.array([0.0, 0.0, 0.05])) for n in names}
+    return Robot("chain", tuple(Link(n) for n in names), joints), bodies
+
+
+def test_a_long_chain_is_sampled_within_the_budget():
+    """Found by a scale test: 100 links took 25 s and 1.5 GB, 200 ran out of memory
+    (338,499 configurations). The sampling is now bounded and says it was coarsened."""
+    from urdfinertia.analysis.statics import MAX_WORK
+    from urdfinertia.rules import Rule
+
+    robot, bodies = chain(300)
+    s = robot_statics(robot, bodies)
+    per_config = 300 + 300 * 301 // 2  # every link placed, plus every joint's subtree
+    assert s.configurations <= max(MAX_WORK // per_config, 3 + 16)
+    assert "statics sampled" in s.note and "300 links" in s.note
+    assert len(s.loads) == 299
+    # the root joint holds the whole chain: below its weight at full reach, and the
+    # samples still find a large part of it
+    reach = sum(0.1 * i - 0.05 for i in range(1, 300))
+    assert 0.1 * GRAVITY * reach < s.loads[0].needed <= GRAVITY * reach
+    found = statics_findings(robot, s)
+    assert [f.rule for f in found if f.rule is Rule.STATICS_COARSENED] == [
+        Rule.STATICS_COARSENED]
+
+
+def test_a_small_robot_is_not_coarsened():
+    s = robot_statics(*chain(5))
+    assert s.note == "" and s.configurations > 259

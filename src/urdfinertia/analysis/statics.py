@@ -45,6 +45,13 @@ DEFAULT_MARGIN = 0.2
 DERIVED_BAND = 0.3
 #: random configurations sampled (besides the corners of the ranges and the zero pose)
 SAMPLES = 256
+#: budget of one statics run: configurations x (links + the links of every joint's
+#: subtree), the arrays' elements: time and memory stay bounded on a long chain
+MAX_WORK = 20_000_000
+#: configurations of one joint's refinement at most (its sweep of every joint)
+MAX_SWEEP = 2048
+#: random configurations drawn however large the robot
+MIN_SAMPLES = 16
 #: a joint whose sampled load is above this fraction of its effort is refined (swept one
 #: joint at a time from its worst sample); below it, far from any finding, it is not
 REFINE_FROM = 0.5
@@ -81,11 +88,15 @@ class JointLoad:
 @dataclass(frozen=True)
 class Statics:
     """The robot's total mass (kg), its CoM at the zero pose (root frame, m), and per
-    actuated or passive joint its :class:`JointLoad`."""
+    actuated or passive joint its :class:`JointLoad`; ``note`` says when the sampling was
+    coarsened to stay within its budget (empty: it was not), ``configurations`` how many
+    configurations were sampled in all."""
 
     mass: float
     com: np.ndarray
     loads: tuple[JointLoad, ...]
+    note: str = ""
+    configurations: int = 0
 
 
 def verdict_bodies(links: tuple[LinkResult, ...]) -> dict[str, Body]:
@@ -147,8 +158,12 @@ def _range(joint: Joint) -> tuple[float, float]:
 
 
 def robot_statics(robot: Robot, bodies: Mapping[str, Body], *, samples: int = SAMPLES,
-                  seed: int = 0) -> Statics:
-    """The robot's statics (see the module docstring) from ``bodies`` by link name."""
+                  seed: int = 0, max_work: int = MAX_WORK) -> Statics:
+    """The robot's statics (see the module docstring) from ``bodies`` by link name.
+
+    The configurations sampled are bounded by ``max_work`` (see :data:`MAX_WORK`): a large
+    robot gets fewer random samples and fewer refined joints, said in ``Statics.note``.
+    """
     names = {link.name for link in robot.links}
     parent_joint: dict[str, Joint] = {}
     for j in robot.joints:
@@ -157,37 +172,47 @@ def robot_statics(robot: Robot, bodies: Mapping[str, Body], *, samples: int = SA
     order = _topological(robot, parent_joint)
     free = [j for j in robot.joints if j.type in _MOVING and j.mimic is None
             and parent_joint.get(j.child) is j]
+    # the cost of one configuration: every link placed, every joint's subtree summed
+    per_config = len(order) + sum(_subtree_sizes(order, parent_joint).values())
+    budget = max(max_work // max(per_config, 1), 3 + MIN_SAMPLES)
+    drawn = min(samples, budget - 3)
     rng = np.random.default_rng(seed)
     ranges = np.array([_range(j) for j in free]).reshape(-1, 2)
     cols = [np.clip(0.0, ranges[:, 0], ranges[:, 1])]  # the zero pose, where in range
     if len(free):
         cols += [ranges[:, 0], ranges[:, 1]]
-        cols += list(ranges[:, 0] + (ranges[:, 1] - ranges[:, 0]) * rng.random((samples,
+        cols += list(ranges[:, 0] + (ranges[:, 1] - ranges[:, 0]) * rng.random((drawn,
                                                                                  len(free))))
     q = np.array(cols)  # (n, joints)
     index = {j.name: i for i, j in enumerate(free)}
     per_joint, folded = _per_joint(robot, bodies, parent_joint, order, index, q)
     rows = {name: np.ones(len(q), dtype=bool) for name in per_joint}
+    wanted: list[tuple[float, str]] = []
+    refined: list[str] = []
+    grid = np.linspace(0.0, 1.0, min(9, max(2, MAX_SWEEP // max(len(free), 1))))
+    size = len(free) * len(grid)
     if len(free):
-        # refine: from each joint's worst sample, sweep every joint over its range once
-        grid = np.linspace(0.0, 1.0, 9)
-        blocks, owners = [], []
+        # refine: from each joint's worst sample, sweep every joint over its range once,
+        # the joints nearest their limit first while the budget lasts
         efforts = {j.name: j.effort for j in robot.joints}
         for name, (nom, _) in per_joint.items():
             effort = efforts.get(name)
             if effort is None or effort <= 0 or np.max(np.abs(nom)) < REFINE_FROM * effort:
                 continue  # passive, or far from its limit: the samples decide
-            start = q[int(np.argmax(np.abs(nom)))]
-            block = np.repeat(start[None, :], len(free) * len(grid), axis=0)
+            wanted.append((-float(np.max(np.abs(nom))) / effort, name))
+        room = max(budget - len(q), 0) // size
+        blocks = []
+        for _, name in sorted(wanted)[:room]:
+            start = q[int(np.argmax(np.abs(per_joint[name][0])))]
+            block = np.repeat(start[None, :], size, axis=0)
             for k in range(len(free)):
                 block[k * len(grid):(k + 1) * len(grid), k] = (
                     ranges[k, 0] + grid * (ranges[k, 1] - ranges[k, 0]))
             blocks.append(block)
-            owners.append(name)
+            refined.append(name)
         extra = np.vstack(blocks) if blocks else np.zeros((0, len(free)))
         more, _ = _per_joint(robot, bodies, parent_joint, order, index, extra)
-        size = len(free) * len(grid)
-        for i, name in enumerate(owners):
+        for i, name in enumerate(refined):
             mask = np.zeros(len(extra), dtype=bool)
             mask[i * size:(i + 1) * size] = True
             per_joint[name] = (np.concatenate([per_joint[name][0], more[name][0]]),
@@ -211,7 +236,24 @@ def robot_statics(robot: Robot, bodies: Mapping[str, Body], *, samples: int = SA
         if name in zero:
             com += b.mass * (zero[name][0, :3, :3] @ b.com + zero[name][0, :3, 3])
     com = com / total if total > 0 else com
-    return Statics(float(total), com, tuple(loads))
+    note = ""
+    if drawn < samples or len(refined) < len(wanted) or (refined and len(grid) < 9):
+        note = (f"statics sampled {len(q)} configurations, not {3 + samples}, and refined "
+                f"{len(refined)} of {len(wanted)} joints near their limit"
+                + (f" on {len(grid)} points per joint, not 9" if len(grid) < 9 and refined
+                   else "")
+                + f" ({len(order)} links): the loads found may be below the largest")
+    return Statics(float(total), com, tuple(loads), note, len(q) + len(refined) * size)
+
+
+def _subtree_sizes(order: list[str], parent_joint: dict[str, Joint]) -> dict[str, int]:
+    """Links in each link's subtree (itself included)."""
+    size = dict.fromkeys(order, 1)
+    for name in reversed(order):
+        j = parent_joint.get(name)
+        if j is not None and j.parent in size:
+            size[j.parent] += size[name]
+    return size
 
 
 def _topological(robot: Robot, parent_joint: dict[str, Joint]) -> list[str]:
@@ -260,17 +302,20 @@ def _per_joint(robot: Robot, bodies: Mapping[str, Body], parent_joint: dict[str,
     the derived links' band; and the mimic joints folded into each joint."""
     poses = _poses(order, parent_joint, index, q)
     g = np.array([0.0, 0.0, -GRAVITY])
-    # each link's weight and its moment arm, per configuration
-    weights = {}
-    for name, b in bodies.items():
-        if name in poses:
+    # every link's mass, band and CoM per configuration, in the depth-first order of
+    # `order`: a subtree is a contiguous run of it (its root, then `sizes` - 1 more)
+    placed = [name for name in order if name in poses]
+    at = np.zeros((len(placed), len(q), 3))
+    mass = np.zeros(len(placed))
+    band = np.zeros(len(placed))
+    for i, name in enumerate(placed):
+        b = bodies.get(name)
+        if b is not None:
             p = poses[name]
-            weights[name] = (b, p[:, :3, :3] @ b.com + p[:, :3, 3])
-    subtree: dict[str, list[str]] = {name: [name] for name in order}
-    for name in reversed(order):
-        j = parent_joint.get(name)
-        if j is not None and j.parent in subtree:
-            subtree[j.parent].extend(subtree[name])
+            at[i] = p[:, :3, :3] @ b.com + p[:, :3, 3]
+            mass[i], band[i] = b.mass, b.band
+    where = {name: i for i, name in enumerate(placed)}
+    sizes = _subtree_sizes(placed, parent_joint)
     per_joint: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for j in robot.joints:
         if j.type not in _MOVING or parent_joint.get(j.child) is not j or j.child not in poses:
@@ -279,21 +324,16 @@ def _per_joint(robot: Robot, bodies: Mapping[str, Body], parent_joint: dict[str,
         axis = np.asarray(j.axis, dtype=np.float64)
         axis = axis / max(float(np.linalg.norm(axis)), 1e-300)
         axis_w = frame[:, :3, :3] @ axis
-        nominal = np.zeros(len(q))
-        spread = np.zeros(len(q))
-        for name in subtree[j.child]:
-            if name not in weights:
-                continue
-            b, at = weights[name]
-            force = b.mass * g
-            if j.type == "prismatic":
-                part = axis_w @ force
-            else:
-                pivot = frame[:, :3, :3] @ np.asarray(j.axis_point) + frame[:, :3, 3]
-                part = np.einsum("ij,ij->i", axis_w, np.cross(at - pivot, force))
-            nominal += part
-            spread += b.band * np.abs(part)
-        per_joint[j.name] = (nominal, spread)
+        run = slice(where[j.child], where[j.child] + sizes[j.child])
+        if j.type == "prismatic":
+            parts = mass[run, None] * (axis_w @ g)[None, :]
+        else:
+            # axis . ((at - pivot) x m g) = m (at - pivot) . (g x axis)
+            pivot = frame[:, :3, :3] @ np.asarray(j.axis_point) + frame[:, :3, 3]
+            lever = np.cross(g, axis_w)
+            parts = mass[run, None] * (np.einsum("lnk,nk->ln", at[run], lever)
+                                       - np.einsum("nk,nk->n", pivot, lever)[None, :])
+        per_joint[j.name] = (parts.sum(axis=0), (band[run, None] * np.abs(parts)).sum(axis=0))
     # mimic joints: their actuator is the joint they mimic
     folded: dict[str, list[str]] = {}
     for j in robot.joints:
@@ -309,6 +349,8 @@ def statics_findings(robot: Robot, statics: Statics, margin: float = DEFAULT_MAR
                      ) -> list[Finding]:
     """The findings of :func:`robot_statics`'s result (see the module docstring)."""
     out: list[Finding] = []
+    if statics.note:
+        out.append(Finding(Rule.STATICS_COARSENED, None, statics.note))
     for load in statics.loads:
         j = load.joint
         child = j.child

@@ -8,21 +8,26 @@ afterwards. `max_faces` only refuses meshes, so the face count is stored and che
 hit instead.
 
 An entry file holds a magic line, a JSON header (format, key, face count, field names, the
-solids' text fields) and raw little-endian float64 numbers; nothing is ever unpickled or
-evaluated. Anything that does not validate (wrong magic, header or key, wrong length,
-non-finite values, volume not positive, asymmetric second moments) is ignored and
-recomputed, never trusted. A mesh the repair rejects (a `MeshError` it raises for
-the bytes themselves) is stored too, as its message, so a warm run repeats the error
-without redoing the work. The folder is kept under a size bound
-by deleting the least recently used entries (by modification time; a hit touches it).
+solids' text fields) and raw little-endian float64 numbers, sealed by a BLAKE2b digest of
+its file name (which holds the key) and bytes; nothing is ever unpickled or evaluated.
+Anything that does not validate (a seal that does not match, wrong magic, header or key,
+wrong length, non-finite values, volume not positive, asymmetric second moments) or is
+not a regular file within `MAX_ENTRY_BYTES` (a FIFO, a symbolic link, a device) is
+ignored, removed and recomputed, never trusted; opening never blocks or follows a link.
+A mesh the repair rejects (a `MeshError` it raises for the bytes themselves) is stored
+too, as its message, so a warm run repeats the error without redoing the work. The folder
+is kept under a size bound by deleting the least recently used entries (by modification
+time; a hit touches it).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import hashlib
+import hmac
 import json
 import os
+import stat
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -46,7 +51,7 @@ if TYPE_CHECKING:
 # numpy and the solids types are imported where entries are encoded or decoded: a warm run
 # that reuses whole-file results computes keys only.
 
-CACHE_FORMAT = "urdfinertia-solids-cache/2"
+CACHE_FORMAT = "urdfinertia-solids-cache/3"
 """Layout of one entry file; a different layout is a foreign entry."""
 MAGIC = b"URDFINERTIA-SOLIDS\n"
 SUBDIR = "solids-v2"
@@ -64,6 +69,8 @@ DEFAULT_MAX_BYTES = 512 * 1024 * 1024
 """Default size bound of the cache folder, bytes."""
 MAX_ENTRY_BYTES = 16 * 1024 * 1024
 """Largest entry file read (a real entry is a few kB)."""
+SEAL_BYTES = 32
+"""Length of the BLAKE2b digest that ends every entry file."""
 _ARRAYS = ("volume", "first", "second")
 T = TypeVar("T")
 _ERROR_KEYS = {"format", "key", "faces", "solid_fields", "mesh_fields", "error", "code"}
@@ -273,13 +280,13 @@ class SolidsCache:
         if not self.enabled:
             return None
         try:
-            if path.stat().st_size > MAX_ENTRY_BYTES:
-                raise ValueError("entry too large")
-            found = decode(path.read_bytes())
+            raw = read_entry_file(path)
+            found = None if raw is None else decode(raw)
         except Exception:  # noqa: BLE001 - a corrupt entry (bad header, JSON, ...) is a miss
             found = None
         if found is None:
             self.misses += count
+            _remove_entry(path)
             return None
         self.hits += count
         try:
@@ -289,10 +296,12 @@ class SolidsCache:
         return found
 
     def write(self, path: Path, data: bytes, count: bool = True) -> None:
-        """Write an entry file atomically; a folder that cannot be written turns caching off.
+        """Write an entry file atomically, sealed (`seal`); a folder that cannot be
+        written turns caching off.
 
         `count`: add the bytes to `written` (entries; not bookkeeping files).
         """
+        data = seal(path.name, data)
         if not self.enabled or len(data) > MAX_ENTRY_BYTES:
             return
         try:
@@ -383,7 +392,8 @@ class SolidsCache:
 
     def _counted_size(self) -> int | None:
         try:
-            doc = json.loads((self.root / SIZE_FILE).read_text(encoding="utf-8"))
+            raw = read_entry_file(self.root / SIZE_FILE)
+            doc = json.loads(raw.decode("utf-8")) if raw is not None else None
         except (OSError, ValueError):
             return None
         if not (isinstance(doc, dict) and doc.get("format") == SIZE_FORMAT):
@@ -397,6 +407,53 @@ class SolidsCache:
         self.write(self.root / SIZE_FILE,
                    json.dumps({"format": SIZE_FORMAT, "bytes": int(total)}).encode(),
                    count=False)
+
+
+def seal(name: str, data: bytes) -> bytes:
+    """`data` followed by its seal: a BLAKE2b digest of the entry's file `name` and `data`.
+
+    The name holds the key, so an entry copied under another key, a flipped bit or
+    rescaled numbers all break the seal.
+    """
+    h = hashlib.blake2b(name.encode("utf-8") + b"\0", digest_size=SEAL_BYTES)
+    h.update(data)
+    return data + h.digest()
+
+
+def unseal(name: str, data: bytes) -> bytes | None:
+    """The bytes `seal` wrapped, or None when the seal does not match."""
+    body = data[:-SEAL_BYTES]
+    if len(data) < SEAL_BYTES or not hmac.compare_digest(seal(name, body), data):
+        return None
+    return body
+
+
+def read_entry_file(path: Path) -> bytes | None:
+    """The unsealed bytes of the entry file at `path`; None when it is absent, not a
+    regular file (opened without following a link or blocking on a FIFO), larger than
+    `MAX_ENTRY_BYTES` or not sealed for its name."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK
+                     | getattr(os, "O_BINARY", 0))
+    except OSError:
+        return None
+    with os.fdopen(fd, "rb") as fh:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_ENTRY_BYTES:
+            return None
+        data = fh.read(MAX_ENTRY_BYTES + 1)
+    if len(data) > MAX_ENTRY_BYTES:
+        return None
+    return unseal(path.name, data)
+
+
+def _remove_entry(path: Path) -> None:
+    """Remove a bad entry (a link or FIFO itself, never what it points to); absent or
+    a folder is left alone."""
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
 
 
 def _scandir(folder: str | Path) -> list[os.DirEntry]:

@@ -162,8 +162,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UrdfInertiaError as exc:
         return _fail(args, f"error: {_one_line(str(exc))}", EXIT_ERROR)
     except MemoryError:
-        return _fail(args, "error: out of memory (a smaller --max-faces refuses large meshes "
-                     "before reading them)", EXIT_ERROR)
+        # meshes' own exhaustion is their error (named); this is anything else's
+        return _fail(args, "error: out of memory (nothing was written; --debug shows where)",
+                     EXIT_ERROR)
     except BrokenPipeError:
         _silence_stdout()
         return _fail(args, "error: output pipe closed before the output was written",

@@ -28,7 +28,7 @@ from urdfinertia.cli.options import (
     options_from_args,
     positive_float,
 )
-from urdfinertia.cli.outcome import fix_exit_code, left_lines, problem_lines
+from urdfinertia.cli.outcome import fix_exit_code, left_lines, problem_lines, unverified_line
 from urdfinertia.errors import OutputError, UrdfInertiaError
 from urdfinertia.plan.fix import fix_file
 
@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
         from urdfinertia.render.results_json import fix_result_dict
 
         doc = fix_result_dict(result)
-        doc["exit_code"] = fix_exit_code(len(result.left))
+        doc["exit_code"] = fix_exit_code(len(result.left), len(result.unverified))
     from urdfinertia.cli import writeback
 
     # xacro: the sources are edited (--write-back, or --in-place on xacro input)
@@ -163,7 +163,12 @@ def run(args: argparse.Namespace) -> int:
     if left:
         print(f"urdf-inertia: {len(left)} of {len(result.links)} links left as they were "
               "(exit 1)", file=sys.stderr)
-    return max(fix_exit_code(len(left)), engine_regressions(args, result, options))
+    unread = unverified_line(result)
+    if unread is not None:  # even with -q: the cause is otherwise only in --json
+        print(f"urdf-inertia: {unread}; their links were not verified (exit 1)",
+              file=sys.stderr)
+    return max(fix_exit_code(len(left), len(result.unverified)),
+               engine_regressions(args, result, options))
 
 
 def _to_terminal(args: argparse.Namespace) -> bool:

@@ -4,7 +4,8 @@ The one home of ``fix``'s exit codes (the batch summary sums them up the same wa
 
 ====  ==================================================================================
 0     every link that should be computed was (elements read past are warnings)
-1     the output was written, but some links were left exactly as they were (listed)
+1     the output was written, but some links were left exactly as they were (listed),
+      or could not be verified (a mesh unresolved or unreadable: as ``check``)
 2     nothing written: the file cannot be read as a whole, a security refusal, a bad
       option, or with ``--strict`` any element dropped, value ignored or link left
 ====  ==================================================================================
@@ -22,8 +23,17 @@ EXIT_PARTIAL = 1
 EXIT_NOTHING_WRITTEN = 2
 
 
-def fix_exit_code(links_left: int) -> int:
-    return EXIT_PARTIAL if links_left else EXIT_OK
+def fix_exit_code(links_left: int, links_unverified: int = 0) -> int:
+    """1 (`EXIT_PARTIAL`) when a link was left as it was or could not be verified."""
+    return EXIT_PARTIAL if links_left or links_unverified else EXIT_OK
+
+
+def unverified_line(result: FixResult) -> str | None:
+    """The one line of what could not be verified ("not verified: 1 mesh unresolved or
+    unreadable in 1 link"), or None (``check`` says the same)."""
+    from urdfinertia.render.decisions import unverified_summary
+
+    return unverified_summary(result.links)
 
 
 def left_lines(result: FixResult) -> list[str]:

@@ -119,7 +119,8 @@ def unverified_summary(verdicts: Sequence[LinkResult]) -> str | None:
     links = [r for r in verdicts if r.unverified]
     if not links:
         return None
-    n = sum(len(r.unverified) for r in links)
+    # one mesh may have two findings (unresolved, and its element dropped): count elements
+    n = sum(len({f.element or f.message for f in r.unverified}) for r in links)
     return (f"not verified: {n} mesh{'es' if n != 1 else ''} unresolved or unreadable in "
             f"{len(links)} link{'s' if len(links) != 1 else ''}")
 

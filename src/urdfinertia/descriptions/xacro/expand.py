@@ -9,6 +9,12 @@ so one expansion at a time runs under a lock with four hooks in place:
   refused, and every element is tagged with where it was written (source file, byte
   offset of its start tag).
 * `xacro.load_yaml`: the same refusals for YAML (size, URLs); `yaml.safe_load`.
+* Both read only regular files (opened without blocking: a FIFO or device is refused)
+  under the folders the robot may read: the main file's folder tree (and its package's,
+  the nearest folder above with a `package.xml`), the `--package-dir` folders and the
+  packages `$(find)` or `package://` resolved. Anything else (`/etc/passwd`) is refused.
+* `xacro.safe_eval`: `**` and `<<` go through bounded functions: an integer result of
+  more than `MAX_INTEGER_BITS` bits (`${10**(10**8)}`) is refused, not computed.
 * `$(find PKG)`: the tool's own package lookup (`
   find_package`: `--package-dir`, `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH`, the
   folders above the file).
@@ -25,10 +31,14 @@ bytes of source files without touching the disk (write-back's perturbed expansio
 
 from __future__ import annotations
 
+import ast
 import contextlib
+import functools
 import io
+import math
 import os
 import re
+import stat
 import threading
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -50,6 +60,8 @@ SOURCE_ATTR = "urdfinertia-src"
 """Attribute carrying an element's source during expansion; removed from the output."""
 MAX_EVALUATED_ELEMENTS = 2_000_000
 """Elements evaluated in one expansion before it is refused (real robots: < 20,000)."""
+MAX_INTEGER_BITS = 4096
+"""Largest integer `**` or `<<` may make in a xacro expression (10**1000 is 3,322 bits)."""
 _URL = re.compile(r"[A-Za-z][A-Za-z0-9+.\-]*://")
 _LOCK = threading.RLock()
 
@@ -110,6 +122,8 @@ class _State:
     overrides: Mapping[str, bytes]
     settings: XacroSettings
     main_dir: Path
+    #: real folders whose files xacro may read (grows as packages are found)
+    allowed: list[str] = field(default_factory=list)
     sources: list[Path] = field(default_factory=list)
     source_bytes: list[bytes] = field(default_factory=list)
     evaluated: int = 0
@@ -153,6 +167,7 @@ def _local_path(text: str, state: _State) -> str:
         if found is None:
             raise UrdfError(f"{uri}: package '{package.group(1)}' not found: "
                             f"{package_hint(package.group(1))} or set ROS_PACKAGE_PATH")
+        state.allowed.append(os.path.realpath(found))
         return str(found / package.group(2))
     local = _FILE_URI.match(uri)
     if local is not None:
@@ -160,14 +175,42 @@ def _local_path(text: str, state: _State) -> str:
     raise UrdfError(f"xacro reads only local files, not URLs: {uri!r}")
 
 
+def allowed_folders(main_dir: Path, settings: XacroSettings) -> list[str]:
+    """The real folders a xacro expansion starts allowed to read: the main file's, its
+    package's (the nearest folder above with a `package.xml`) and the `--package-dir`
+    folders."""
+    main = os.path.realpath(main_dir)
+    out = [main, *(os.path.realpath(v) for _, v in settings.package_dirs)]
+    for folder in Path(main).parents:
+        if (folder / "package.xml").is_file():
+            out.append(str(folder))
+            break
+    return out
+
+
+def _inside(real: str, folders: list[str]) -> bool:
+    return any(real == f or real.startswith(f.rstrip(os.sep) + os.sep) for f in folders)
+
+
 def read_source(path: str | Path, state: _State) -> bytes:
-    """A file xacro asks for: refused if it is a URL, too large or hostile XML."""
+    """A file xacro asks for: refused if it is a URL, outside the allowed folders, not a
+    regular file, too large or hostile XML."""
     text = _local_path(os.fspath(path), state)
     real = os.path.realpath(text)
     if real in state.overrides:
         data = state.overrides[real]
     else:
-        with open(text, "rb") as fh:  # OSError: xacro's optional includes depend on it
+        if not _inside(real, state.allowed):
+            raise UrdfError(f"xacro reads only files under the robot's folder, its "
+                            f"package, --package-dir folders and found packages, not "
+                            f"{text!r}")
+        # OSError: xacro's optional includes depend on it; non-blocking: a FIFO's open
+        # would wait for a writer
+        fd = os.open(text, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_BINARY", 0))
+        with os.fdopen(fd, "rb") as fh:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                raise UrdfError(f"xacro reads only regular files, not {text!r} (a FIFO, "
+                                "device or folder)")
             data = fh.read(MAX_DOCUMENT_BYTES + 1)
     if len(data) > MAX_DOCUMENT_BYTES:
         raise UrdfError(f"file is larger than the limit of {MAX_DOCUMENT_BYTES} bytes",
@@ -223,6 +266,7 @@ def _hooks(state: _State) -> dict[str, Any]:
         if found is None:
             raise UrdfError(f"$(find {package}): package not found: "
                             f"{package_hint(package)} or set ROS_PACKAGE_PATH")
+        state.allowed.append(os.path.realpath(found))
         return str(found)
 
     def eval_all(node, macros, symbols):  # noqa: ANN001, ANN202
@@ -242,8 +286,61 @@ def _hooks(state: _State) -> dict[str, Any]:
     original = {name: getattr(xacro, name) for name in _LOCATED}
     original_parse = xacro.parse
     hooks = {name: located(name) for name in _LOCATED}
-    hooks.update(parse=parse, load_yaml=load_yaml, find=find, eval_all=eval_all)
+    hooks.update(parse=parse, load_yaml=load_yaml, find=find, eval_all=eval_all,
+                 safe_eval=functools.partial(bounded_eval, original_safe_eval=xacro.safe_eval))
     return hooks
+
+
+_BOUNDED = {ast.Pow: "_urdfinertia_pow", ast.LShift: "_urdfinertia_lshift"}
+
+
+class _BoundOperators(ast.NodeTransformer):
+    """`a ** b` -> `_urdfinertia_pow(a, b)`, `a << b` likewise."""
+
+    def visit_BinOp(self, node: ast.BinOp) -> ast.AST:
+        self.generic_visit(node)
+        name = _BOUNDED.get(type(node.op))
+        if name is None:
+            return node
+        return ast.copy_location(ast.Call(ast.Name(name, ast.Load()), [node.left, node.right],
+                                          []), node)
+
+
+def _too_large(what: str) -> UrdfError:
+    return UrdfError(f"xacro: {what} makes an integer of more than {MAX_INTEGER_BITS} bits "
+                     "(refused, not computed)")
+
+
+def _bounded_pow(base: Any, exponent: Any) -> Any:
+    if (isinstance(base, int) and isinstance(exponent, int) and exponent > 0
+            and abs(base) > 1 and exponent * math.log2(abs(base)) > MAX_INTEGER_BITS):
+        raise _too_large(f"{base} ** {exponent}")
+    return base ** exponent
+
+
+def _bounded_lshift(value: Any, shift: Any) -> Any:
+    if isinstance(value, int) and isinstance(shift, int) and value and shift > MAX_INTEGER_BITS:
+        raise _too_large(f"{value} << {shift}")
+    return value << shift
+
+
+def bounded_eval(expr: str, globals: Any, locals: Any = None, *,  # noqa: A002 - xacro's
+                 original_safe_eval: Any) -> Any:
+    """xacro's `safe_eval` with `**` and `<<` bounded (`MAX_INTEGER_BITS`)."""
+    tree = ast.parse(expr.strip(), "<expression>", "eval")
+    if not any(isinstance(n, ast.BinOp) and type(n.op) in _BOUNDED for n in ast.walk(tree)):
+        return original_safe_eval(expr, globals, locals)
+    code = compile(ast.fix_missing_locations(_BoundOperators().visit(tree)), "<expression>",
+                   "eval")
+    invalid = [n for n in code.co_names if n.startswith("__")]
+    if invalid:
+        return original_safe_eval(expr, globals, locals)  # xacro's own refusal
+    globals.update(__builtins__={"_urdfinertia_pow": _bounded_pow,
+                                 "_urdfinertia_lshift": _bounded_lshift})
+    try:
+        return eval(code, globals, locals)  # noqa: S307 - xacro's restricted namespace
+    finally:
+        globals.update(__builtins__={})
 
 
 _LOCATED = ("eval_all", "handle_macro_call", "process_include", "grab_property",
@@ -281,7 +378,8 @@ def _patched(state: _State) -> Iterator[None]:
     hooks = _hooks(state)
     saved = (substitution_args._eval_find, substitution_args._eval_dict["find"],
              xacro.verbosity)
-    saved_functions = {name: getattr(xacro, name) for name in (*_LOCATED, "parse")}
+    saved_functions = {name: getattr(xacro, name)
+                       for name in (*_LOCATED, "parse", "safe_eval")}
     ns = xacro._global_symbols["xacro"]
     saved_yaml = (dict.get(ns, "load_yaml"), xacro._global_symbols.get("load_yaml"))
     for name in saved_functions:
@@ -319,7 +417,7 @@ def expand_xacro(path: str | Path, data: bytes | None = None, *,
     real = {os.path.realpath(p): v for p, v in (overrides or {}).items()}
     if data is not None:
         real.setdefault(os.path.realpath(path), data)
-    state = _State(real, settings, path.parent)
+    state = _State(real, settings, path.parent, allowed_folders(path.parent, settings))
     warnings = io.StringIO()
     with _LOCK, _patched(state), contextlib.redirect_stderr(warnings):
         try:
@@ -328,9 +426,10 @@ def expand_xacro(path: str | Path, data: bytes | None = None, *,
             xacro.process_doc(doc, mappings=dict(settings.args), verbosity=0)
         except UrdfInertiaError as exc:
             raise _located(exc, state, exc, xacro) from None
-        except RecursionError:
+        except RecursionError as exc:  # located at the innermost element it could tag
             raise _located(UrdfError("xacro: recursion too deep (an include or macro that "
-                                     "includes or calls itself?)"), state, None, xacro) from None
+                                     "includes or calls itself, or elements nested too "
+                                     "deep?)"), state, exc, xacro) from None
         except Exception as exc:  # xacro raises many types; each becomes one located line
             inner = _inner_error(exc)
             if inner is not None:  # a hook's refusal, wrapped by xacro's expression handler
