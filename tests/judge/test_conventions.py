@@ -166,3 +166,10 @@ def test_chains_run_between_branching_links():
              ("b2", "c1"), ("b2", "d1"), ("d1", "d2")]
     assert sorted(chains(edges)) == [["a1", "a2", "a3"], ["b1", "b2"], ["c1"], ["d1", "d2"]]
     assert chains([("world", "base"), ("base", "l1"), ("l1", "l2")]) == [["base", "l1", "l2"]]
+
+
+def test_chains_end_at_a_cycle():
+    """A joint whose child is its own parent (a fuzzed SDF) ends the chain, in bounded
+    time and memory."""
+    assert chains([("base", "a"), ("a", "b"), ("b", "b")]) == [["a", "b"]]
+    assert chains([("base", "a"), ("a", "b"), ("b", "a")]) == [["a", "b"]]

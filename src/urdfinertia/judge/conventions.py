@@ -157,8 +157,10 @@ def chains(edges: Iterable[tuple[str, str]]) -> list[list[str]]:
     starts = [c for p in children if p not in kids or len(children[p]) > 1
               for c in children[p]]
     for start in starts:
-        chain = [start]
-        while len(children.get(chain[-1], ())) == 1:
+        chain, seen = [start], {start}
+        # a cycle (a joint whose child is its parent, or a loop) ends the chain
+        while len(children.get(chain[-1], ())) == 1 and children[chain[-1]][0] not in seen:
             chain.append(children[chain[-1]][0])
+            seen.add(chain[-1])
         out.append(chain)
     return out
