@@ -124,3 +124,12 @@ def test_deep_macro_recursion_names_its_line(tmp_path):
     with pytest.raises(UrdfError, match="recursion too deep") as exc:
         read_description(path)
     assert exc.value.file == str(path) and exc.value.line in (3, 4)
+
+
+def test_a_huge_include_name_is_refused_at_once(tmp_path):
+    """Fuzz (seed 5): a megabyte of letters as an include's name hung the scheme search
+    (quadratic); a name longer than PATH_MAX is refused with its line."""
+    path = write(tmp_path, "r.urdf.xacro", HEAD + f'  <xacro:include filename="{"A" * 5000}"/>\n'
+                 '  <link name="a"/>\n</robot>\n')
+    with pytest.raises(UrdfError, match="more than 4096"):
+        read_description(path)
