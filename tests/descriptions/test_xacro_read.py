@@ -8,6 +8,7 @@ import shutil
 from pathlib import Path
 
 import pytest
+from support.xacro_files import HEAD, clean_xacro_settings, write  # noqa: F401 - the fixture
 
 from urdfinertia.cli import main
 from urdfinertia.descriptions.formats import detect_format, read_description
@@ -17,21 +18,10 @@ from urdfinertia.errors import UrdfError
 DATA = Path(__file__).parents[1] / "data" / "xacro"
 
 
-@pytest.fixture(autouse=True)
-def _reset_settings():
-    configure()
-    yield
-    configure()
 
 
-def write(folder: Path, name: str, text: str) -> Path:
-    path = folder / name
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text)
-    return path
 
 
-HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
 
 
 def test_links_are_named_after_expansion_and_match_the_xacro_command():

@@ -10,27 +10,12 @@ import sys
 from pathlib import Path
 
 import pytest
+from support.xacro_files import HEAD, clean_xacro_settings, write  # noqa: F401 - the fixture
 
 from urdfinertia.cli import main
 from urdfinertia.descriptions.formats import read_description
 from urdfinertia.descriptions.xacro.expand import configure
 from urdfinertia.errors import UrdfError
-
-HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-
-
-@pytest.fixture(autouse=True)
-def _reset_settings():
-    configure()
-    yield
-    configure()
-
-
-def write(folder: Path, name: str, text: str) -> Path:
-    path = folder / name
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text)
-    return path
 
 
 def yaml_robot(folder: Path, yaml_path: str) -> Path:
